@@ -1,0 +1,67 @@
+#include "brdf/merl_brdf.h"
+
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <fstream>
+
+#include "core/error.h"
+
+namespace acq {
+
+std::array<double, 3> MerlBrdf::Lookup(const Eigen::Vector3d& in,
+                                       const Eigen::Vector3d& out) const {
+  const std::size_t bin = merl::BinOf(RusinkiewiczFromDirections(in, out)).Flat();
+  return {Value(0, bin), Value(1, bin), Value(2, bin)};
+}
+
+MerlBrdf ReadMerlBinary(const std::string& path) {
+  std::ifstream f(path, std::ios::binary);
+  if (!f) throw UserError(path, "cannot open MERL .binary file", "check the path");
+  std::int32_t dims[3] = {0, 0, 0};
+  if (!f.read(reinterpret_cast<char*>(dims), sizeof dims))
+    throw UserError(path, "file is shorter than the 12-byte MERL header",
+                    "the file is truncated or not a MERL .binary");
+  if (dims[0] != merl::kThetaH || dims[1] != merl::kThetaD || dims[2] != merl::kPhiD) {
+    throw UserError(path,
+                    "MERL header says " + std::to_string(dims[0]) + " x " +
+                        std::to_string(dims[1]) + " x " + std::to_string(dims[2]) +
+                        " bins, expected 90 x 90 x 180",
+                    "only the standard isotropic MERL grid is supported");
+  }
+  MerlBrdf brdf;
+  const std::streamsize want = std::streamsize(brdf.raw.size() * sizeof(double));
+  f.read(reinterpret_cast<char*>(brdf.raw.data()), want);
+  if (f.gcount() != want) {
+    throw UserError(path,
+                    "truncated: " + std::to_string(12 + f.gcount()) + " bytes, expected " +
+                        std::to_string(12 + want),
+                    "re-copy or re-export the file");
+  }
+  if (f.peek() != std::char_traits<char>::eof())
+    throw UserError(path, "has trailing bytes after the 3 x 1458000 doubles",
+                    "the file is not a MERL .binary");
+  for (std::size_t i = 0; i < brdf.raw.size(); ++i) {
+    if (!std::isfinite(brdf.raw[i])) {
+      const merl::BinIndex b = merl::BinFromFlat(i % merl::kBins);
+      throw UserError(path,
+                      std::string("non-finite value in channel ") + "RGB"[i / merl::kBins] +
+                          " at bin (theta_h " + std::to_string(b.theta_h) + ", theta_d " +
+                          std::to_string(b.theta_d) + ", phi_d " + std::to_string(b.phi_d) + ")",
+                      "the file is corrupt; MERL marks missing data with negative values");
+    }
+  }
+  return brdf;
+}
+
+void WriteMerlBinary(const MerlBrdf& brdf, const std::string& path) {
+  std::ofstream f(path, std::ios::binary | std::ios::trunc);
+  if (!f) throw UserError(path, "cannot create file", "check the folder exists and is writable");
+  const std::int32_t dims[3] = {merl::kThetaH, merl::kThetaD, merl::kPhiD};
+  f.write(reinterpret_cast<const char*>(dims), sizeof dims);
+  f.write(reinterpret_cast<const char*>(brdf.raw.data()),
+          std::streamsize(brdf.raw.size() * sizeof(double)));
+  if (!f) throw UserError(path, "write failed", "check free disk space");
+}
+
+}  // namespace acq

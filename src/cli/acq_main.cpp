@@ -1,0 +1,81 @@
+// acq: the offline tool for the stages that run on files.
+#include <cstdio>
+#include <cstring>
+#include <functional>
+#include <map>
+#include <string>
+
+#include "cli/commands.h"
+#include "core/error.h"
+
+namespace {
+
+struct Command {
+  std::function<int(const acq::cli::Argv&)> run;
+  const char* usage;
+};
+
+const std::map<std::string, Command>& Commands() {
+  using namespace acq::cli;
+  static const std::map<std::string, Command> commands = {
+      {"basis build",
+       {BasisBuild,
+        "acq basis build MATERIALS... -o BASIS [--components K] [--holdout-every N "
+        "--holdout-offset I] [--holdout NAME,...] [--quiet]\n"
+        "  MATERIALS: MERL .binary files, neural-BRDF .h5 fits, or folders of them.\n"
+        "  Hold out every N-th material by sorted name starting at 0-based I, and/or by name."}},
+      {"basis eval",
+       {BasisEval,
+        "acq basis eval --basis BASIS --directions TSV [MATERIALS...] [--k 20] [--eta 40]\n"
+        "               [--write-recon DIR] [--csv FILE]\n"
+        "  Reconstructs each material (default: the basis's held-out set, found in MATERIALS or\n"
+        "  data/nbrdf/merl) from its values at the directions and prints per-channel errors."}},
+      {"basis info", {BasisInfo, "acq basis info BASIS [--no-verify]"}},
+      {"material convert",
+       {MaterialConvert,
+        "acq material convert MATERIALS... -o DIR\n"
+        "  Tabulates neural-BRDF fits (or copies MERL files) as MERL .binary files in DIR."}},
+      {"directions random",
+       {DirectionsRandom,
+        "acq directions random --n N [--seed S] -o TSV\n"
+        "  N directions, light and camera uniform over the hemisphere."}},
+  };
+  return commands;
+}
+
+void PrintUsage(FILE* to) {
+  std::fprintf(to, "usage:\n");
+  for (const auto& [name, command] : Commands()) std::fprintf(to, "  %s\n\n", command.usage);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc < 2 || !std::strcmp(argv[1], "--help") || !std::strcmp(argv[1], "-h")) {
+    PrintUsage(argc < 2 ? stderr : stdout);
+    return argc < 2 ? 2 : 0;
+  }
+  const std::string name = argc >= 3 ? std::string(argv[1]) + " " + argv[2] : argv[1];
+  const auto it = Commands().find(name);
+  if (it == Commands().end()) {
+    std::fprintf(stderr, "acq: unknown command '%s'\n", name.c_str());
+    PrintUsage(stderr);
+    return 2;
+  }
+  acq::cli::Argv args(argv + 3, argv + argc);
+  for (const std::string& a : args) {
+    if (a == "--help" || a == "-h") {
+      std::printf("usage: %s\n", it->second.usage);
+      return 0;
+    }
+  }
+  try {
+    return it->second.run(args);
+  } catch (const acq::UserError& e) {
+    std::fprintf(stderr, "error: %s\n", e.what());
+    return 1;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "acq %s: internal error: %s\n", name.c_str(), e.what());
+    return 3;
+  }
+}

@@ -1,0 +1,91 @@
+#include "cli/args.h"
+
+#include <cctype>
+#include <sstream>
+
+#include "core/error.h"
+
+namespace acq::cli {
+
+Args::Args(std::string command, const std::vector<std::string>& argv,
+           std::set<std::string> valued, std::set<std::string> flags)
+    : command_(std::move(command)) {
+  const std::string help = "see `" + command_ + " --help`";
+  for (std::size_t i = 0; i < argv.size(); ++i) {
+    const std::string& a = argv[i];
+    const bool short_option = a.size() == 2 && a[0] == '-' && std::isalpha(a[1]);
+    if ((a.rfind("--", 0) != 0 || a == "--") && !short_option) {
+      positionals_.push_back(a);
+      continue;
+    }
+    std::string name = a.substr(short_option ? 1 : 2), value;
+    const auto eq = name.find('=');
+    const bool inline_value = eq != std::string::npos;
+    if (inline_value) {
+      value = name.substr(eq + 1);
+      name = name.substr(0, eq);
+    }
+    if (flags.count(name)) {
+      if (inline_value) throw UserError(command_ + " --" + name, "takes no value", help);
+      values_[name].push_back("1");
+    } else if (valued.count(name)) {
+      if (!inline_value) {
+        if (i + 1 >= argv.size())
+          throw UserError(command_ + " --" + name, "needs a value", help);
+        value = argv[++i];
+      }
+      values_[name].push_back(value);
+    } else {
+      throw UserError(command_, "unknown option --" + name, help);
+    }
+  }
+}
+
+std::string Args::Get(const std::string& name, const std::string& fallback) const {
+  const auto it = values_.find(name);
+  return it == values_.end() ? fallback : it->second.back();
+}
+
+std::string Args::Required(const std::string& name) const {
+  if (!Has(name))
+    throw UserError(command_, "missing required option --" + name, "see `" + command_ + " --help`");
+  return Get(name);
+}
+
+std::vector<std::string> Args::All(const std::string& name) const {
+  std::vector<std::string> out;
+  const auto it = values_.find(name);
+  if (it == values_.end()) return out;
+  for (const std::string& v : it->second) {
+    std::istringstream s(v);
+    for (std::string part; std::getline(s, part, ',');)
+      if (!part.empty()) out.push_back(part);
+  }
+  return out;
+}
+
+int Args::GetInt(const std::string& name, int fallback) const {
+  if (!Has(name)) return fallback;
+  const std::string v = Get(name);
+  std::size_t used = 0;
+  try {
+    const int x = std::stoi(v, &used);
+    if (used == v.size()) return x;
+  } catch (const std::exception&) {
+  }
+  throw UserError(command_ + " --" + name, "expected an integer, got '" + v + "'");
+}
+
+double Args::GetDouble(const std::string& name, double fallback) const {
+  if (!Has(name)) return fallback;
+  const std::string v = Get(name);
+  std::size_t used = 0;
+  try {
+    const double x = std::stod(v, &used);
+    if (used == v.size()) return x;
+  } catch (const std::exception&) {
+  }
+  throw UserError(command_ + " --" + name, "expected a number, got '" + v + "'");
+}
+
+}  // namespace acq::cli

@@ -1,0 +1,18 @@
+// The `acq` subcommands. Each takes the arguments after its name and returns an exit code;
+// user errors are thrown as UserError and reported by main.
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace acq::cli {
+
+using Argv = std::vector<std::string>;
+
+int BasisBuild(const Argv& args);
+int BasisEval(const Argv& args);
+int BasisInfo(const Argv& args);
+int MaterialConvert(const Argv& args);
+int DirectionsRandom(const Argv& args);
+
+}  // namespace acq::cli

@@ -1,0 +1,49 @@
+#include "core/rusinkiewicz.h"
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+
+namespace acq {
+namespace {
+
+Eigen::Vector3d SphericalToVector(double theta, double phi) {
+  return {std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta)};
+}
+
+double SafeAcos(double c) { return std::acos(std::clamp(c, -1.0, 1.0)); }
+
+}  // namespace
+
+Eigen::Vector3d DifferenceVector(double theta_d, double phi_d) {
+  return SphericalToVector(theta_d, phi_d);
+}
+
+RusinkiewiczAngles RusinkiewiczFromDirections(const Eigen::Vector3d& in,
+                                              const Eigen::Vector3d& out) {
+  const Eigen::Vector3d half = (in + out).normalized();
+  RusinkiewiczAngles a;
+  a.theta_h = SafeAcos(half.z());
+  a.phi_h = std::atan2(half.y(), half.x());
+  // Rotate w_i into the half-vector frame: -phi_h about the normal, then -theta_h about y.
+  const Eigen::Vector3d diff = Eigen::AngleAxisd(-a.theta_h, Eigen::Vector3d::UnitY()) *
+                               (Eigen::AngleAxisd(-a.phi_h, Eigen::Vector3d::UnitZ()) * in);
+  a.theta_d = SafeAcos(diff.z());
+  a.phi_d = std::atan2(diff.y(), diff.x());
+  return a;
+}
+
+DirectionPair DirectionsFromRusinkiewicz(const RusinkiewiczAngles& a) {
+  const Eigen::Matrix3d world_from_half =
+      (Eigen::AngleAxisd(a.phi_h, Eigen::Vector3d::UnitZ()) *
+       Eigen::AngleAxisd(a.theta_h, Eigen::Vector3d::UnitY()))
+          .toRotationMatrix();
+  const Eigen::Vector3d diff = DifferenceVector(a.theta_d, a.phi_d);
+  // In the half frame the half vector is z; w_o is w_i reflected about it.
+  const Eigen::Vector3d reflected(-diff.x(), -diff.y(), diff.z());
+  return {world_from_half * diff, world_from_half * reflected};
+}
+
+bool AboveHorizon(const DirectionPair& d) { return d.in.z() > 0.0 && d.out.z() > 0.0; }
+
+}  // namespace acq

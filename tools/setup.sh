@@ -1,0 +1,33 @@
+#!/usr/bin/env bash
+# Installs every Debian 12 package the build, the tests and the benchmark scripts need.
+# Idempotent: apt-get install skips what is present; safe to re-run.
+set -euo pipefail
+
+packages=(
+  # build
+  build-essential meson ninja-build pkg-config clang-format
+  # libraries (DESIGN.md, "Conventions")
+  libeigen3-dev libopencv-dev libmrcal-dev mrcal libmrgingham-dev mrgingham
+  libusb-1.0-0-dev libaravis-dev aravis-tools libopenexr-dev libyaml-cpp-dev
+  libsqlite3-dev libhdf5-dev libumockdev-dev umockdev catch2
+  # reference implementations, benchmarks and charts (Debian's /usr/bin/python3)
+  python3 python3-numpy python3-h5py python3-matplotlib python3-mrcal python3-opencv
+  # peak-memory measurement in benchmarks
+  time
+)
+
+sudo_cmd=()
+if [ "$(id -u)" -ne 0 ]; then sudo_cmd=(sudo); fi
+
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ ${#missing[@]} -eq 0 ]; then
+  echo "setup: all ${#packages[@]} packages already installed"
+  exit 0
+fi
+echo "setup: installing ${#missing[@]} packages: ${missing[*]}"
+export DEBIAN_FRONTEND=noninteractive
+"${sudo_cmd[@]}" apt-get update -qq
+"${sudo_cmd[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}"
