@@ -84,7 +84,7 @@ void WriteDirectionsTsv(const std::vector<Direction>& directions, const std::str
   std::istringstream lines(comment);
   for (std::string l; std::getline(lines, l);) f << "# " << l << "\n";
   f << "theta_h\ttheta_d\tphi_d\n";
-  f.precision(6);
+  f.precision(10);  // enough that a direction never changes MERL bin on a round trip
   for (const auto& d : directions) {
     double phi_d = RadToDeg(d.angles.phi_d);
     if (phi_d < 0) phi_d += 360;

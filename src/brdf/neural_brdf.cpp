@@ -90,7 +90,7 @@ NeuralBrdf::RowMatrix NeuralBrdf::EvaluateBatch(const RowMatrix& inputs) const {
   RowMatrix h1 = ((inputs * w1_).rowwise() + b1_).cwiseMax(0.0f);
   RowMatrix h2 = ((h1 * w2_).rowwise() + b2_).cwiseMax(0.0f);
   RowMatrix y = (h2 * w3_).rowwise() + b3_;
-  return (y.array().exp() - 1.0f).matrix();
+  return y.array().expm1().matrix();  // exp(y) - 1 without cancellation for small y
 }
 
 std::array<double, 3> NeuralBrdf::Evaluate(const RusinkiewiczAngles& a) const {

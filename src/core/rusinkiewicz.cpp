@@ -1,7 +1,6 @@
 #include "core/rusinkiewicz.h"
 
 #include <Eigen/Geometry>
-#include <algorithm>
 #include <cmath>
 
 namespace acq {
@@ -11,7 +10,12 @@ Eigen::Vector3d SphericalToVector(double theta, double phi) {
   return {std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta)};
 }
 
-double SafeAcos(double c) { return std::acos(std::clamp(c, -1.0, 1.0)); }
+// Zenith angle of a unit vector; atan2 keeps full precision near the pole, where acos loses
+// half the digits.
+double Zenith(const Eigen::Vector3d& v) { return std::atan2(std::hypot(v.x(), v.y()), v.z()); }
+
+// Below this the half vector is the normal to within rounding and its azimuth is noise.
+constexpr double kPoleTolerance = 1e-12;
 
 }  // namespace
 
@@ -23,12 +27,14 @@ RusinkiewiczAngles RusinkiewiczFromDirections(const Eigen::Vector3d& in,
                                               const Eigen::Vector3d& out) {
   const Eigen::Vector3d half = (in + out).normalized();
   RusinkiewiczAngles a;
-  a.theta_h = SafeAcos(half.z());
-  a.phi_h = std::atan2(half.y(), half.x());
+  a.theta_h = Zenith(half);
+  // At theta_h = 0 phi_h is undefined and phi_d is measured from it; the convention is
+  // phi_h = 0, so phi_d is the azimuth of w_i in the surface frame.
+  a.phi_h = std::hypot(half.x(), half.y()) < kPoleTolerance ? 0.0 : std::atan2(half.y(), half.x());
   // Rotate w_i into the half-vector frame: -phi_h about the normal, then -theta_h about y.
   const Eigen::Vector3d diff = Eigen::AngleAxisd(-a.theta_h, Eigen::Vector3d::UnitY()) *
                                (Eigen::AngleAxisd(-a.phi_h, Eigen::Vector3d::UnitZ()) * in);
-  a.theta_d = SafeAcos(diff.z());
+  a.theta_d = Zenith(diff);
   a.phi_d = std::atan2(diff.y(), diff.x());
   return a;
 }

@@ -23,6 +23,7 @@ struct DirectionPair {
 };
 
 // Both vectors must be unit length and not opposite (their sum defines the half vector).
+// When the half vector is the normal (theta_h = 0), phi_h is taken as 0.
 RusinkiewiczAngles RusinkiewiczFromDirections(const Eigen::Vector3d& in,
                                               const Eigen::Vector3d& out);
 

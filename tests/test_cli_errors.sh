@@ -1,0 +1,66 @@
+#!/usr/bin/env bash
+# The acq tool on bad inputs: each case must exit 1 (a user error, not a crash) and print a
+# message naming the file and the problem. usage: test_cli_errors.sh ACQ DATA_DIR
+set -u
+acq=$1
+data=$2
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+failures=0
+passed=0
+
+expect_error() {  # name, expected substring..., -- command...
+  local name=$1; shift
+  local patterns=()
+  while [ "$1" != "--" ]; do patterns+=("$1"); shift; done
+  shift
+  local out rc
+  out=$("$@" 2>&1); rc=$?
+  local ok=1
+  [ "$rc" -eq 1 ] || ok=0
+  for p in "${patterns[@]}"; do grep -qF -- "$p" <<<"$out" || ok=0; done
+  if [ $ok -eq 1 ]; then
+    passed=$((passed + 1)); echo "ok: $name"
+  else
+    failures=$((failures + 1)); echo "FAIL: $name (exit $rc, wanted 1 and: ${patterns[*]})"; echo "$out" | tail -5
+  fi
+}
+
+# Fixtures: a good .binary from one fit, then broken copies.
+mkdir -p "$tmp/good" "$tmp/trunc" "$tmp/dims" "$tmp/nan" "$tmp/empty" "$tmp/h5"
+"$acq" material convert "$data/nbrdf/merl/brass.h5" -o "$tmp/good" >/dev/null || { echo "FAIL: convert"; exit 1; }
+head -c 1000000 "$tmp/good/brass.binary" > "$tmp/trunc/brass.binary"
+cp "$tmp/good/brass.binary" "$tmp/dims/brass.binary"
+printf '\x5a\x00\x00\x00\x5a\x00\x00\x00\x68\x01\x00\x00' | dd of="$tmp/dims/brass.binary" conv=notrunc status=none
+cp "$tmp/good/brass.binary" "$tmp/nan/brass.binary"
+printf '\x00\x00\x00\x00\x00\x00\xf8\x7f' | dd of="$tmp/nan/brass.binary" bs=1 seek=$((12 + 8 * 1000)) conv=notrunc status=none
+cp "$data/../tests/data/wrong_shapes.h5" "$tmp/h5/"
+printf 'theta_h\ttheta_d\tphi_d\n0\t30\t0\n70\t40\t0\n' > "$tmp/below.tsv"
+
+expect_error "truncated .binary" "trunc/brass.binary" "truncated" -- \
+  "$acq" basis build "$tmp/trunc" -o "$tmp/b" --components 3 --quiet
+expect_error "wrong dims" "dims/brass.binary" "90 x 90 x 360" -- \
+  "$acq" basis build "$tmp/dims" -o "$tmp/b" --components 3 --quiet
+expect_error "NaN in .binary" "nan/brass.binary" "non-finite" -- \
+  "$acq" basis build "$tmp/nan" -o "$tmp/b" --components 3 --quiet
+expect_error "h5 with other layer shapes" "wrong_shapes.h5" "expected (21, 21)" -- \
+  "$acq" basis build "$tmp/h5" -o "$tmp/b" --components 3 --quiet
+expect_error "empty material set" "empty material set" -- \
+  "$acq" basis build "$tmp/empty" -o "$tmp/b" --quiet
+expect_error "too many components" "only 3 rows" -- \
+  "$acq" basis build "$tmp/good" -o "$tmp/b" --components 4 --quiet
+expect_error "unknown option" "unknown option --frobnicate" -- \
+  "$acq" basis build "$tmp/good" -o "$tmp/b" --frobnicate 3
+
+"$acq" basis build "$tmp/good" -o "$tmp/one.acqb" --components 3 --quiet >/dev/null
+expect_error "direction below the horizon" "below.tsv:3" "below the horizon" -- \
+  "$acq" basis eval --basis "$tmp/one.acqb" --directions "$tmp/below.tsv" --k 3 --all-given "$tmp/good"
+expect_error "k larger than the basis" "--k" "[1, 3]" -- \
+  "$acq" basis eval --basis "$tmp/one.acqb" --directions "$data/directions/seed_directions_20.tsv" --k 20 "$tmp/good"
+expect_error "not a basis file" "wrong magic" -- \
+  "$acq" basis eval --basis "$data/directions/seed_directions_20.tsv" --directions "$tmp/below.tsv" "$tmp/good"
+expect_error "basis too short" "too short" -- \
+  "$acq" basis eval --basis "$tmp/below.tsv" --directions "$tmp/below.tsv" "$tmp/good"
+
+echo "$passed passed, $failures failed"
+[ "$failures" -eq 0 ]

@@ -1,0 +1,69 @@
+#include <catch2/catch.hpp>
+
+#include "core/angles.h"
+#include "core/merl_grid.h"
+
+using namespace acq;
+using namespace acq::merl;
+
+TEST_CASE("theta_h index, hand computed", "[merl]") {
+  CHECK(ThetaHIndex(0.0) == 0);
+  CHECK(ThetaHIndex(-0.1) == 0);
+  CHECK(ThetaHIndex(DegToRad(1)) == 9);     // sqrt(1/90) * 90 = 9.49
+  CHECK(ThetaHIndex(DegToRad(10.1)) == 30);  // sqrt(10.1/90) * 90 = 30.15
+  CHECK(ThetaHIndex(DegToRad(9.9)) == 29);  // 29.85
+  CHECK(ThetaHIndex(DegToRad(45)) == 63);   // sqrt(0.5) * 90 = 63.64
+  CHECK(ThetaHIndex(DegToRad(89.9)) == 89);
+  CHECK(ThetaHIndex(DegToRad(90)) == 89);  // clamped, as in MERL's reader
+}
+
+TEST_CASE("theta_d and phi_d indices, hand computed", "[merl]") {
+  CHECK(ThetaDIndex(DegToRad(30.5)) == 30);
+  CHECK(ThetaDIndex(DegToRad(89.99)) == 89);
+  CHECK(ThetaDIndex(DegToRad(90)) == 89);
+  CHECK(PhiDIndex(DegToRad(0.5)) == 0);
+  CHECK(PhiDIndex(DegToRad(1.5)) == 1);
+  CHECK(PhiDIndex(DegToRad(179.5)) == 179);
+  CHECK(PhiDIndex(kPi) == 179);                 // phi_d = pi is clamped into the last bin
+  CHECK(PhiDIndex(DegToRad(-90.5)) == 89);      // -90.5 + 180 = 89.5 (reciprocity fold)
+  CHECK(PhiDIndex(DegToRad(-0.5)) == 179);      // just below 0 folds to just below pi
+}
+
+TEST_CASE("flat index layout is phi_d + 180 theta_d + 16200 theta_h", "[merl]") {
+  const BinIndex b{1, 2, 3};
+  CHECK(b.Flat() == 3 + 180 * 2 + 180 * 90 * 1);
+  CHECK(BinFromFlat(b.Flat()) == b);
+  CHECK(BinIndex{89, 89, 179}.Flat() == kBins - 1);
+}
+
+TEST_CASE("every bin centre falls in its own bin", "[merl]") {
+  for (std::size_t i = 0; i < kBins; ++i) {
+    const BinIndex b = BinFromFlat(i);
+    REQUIRE(BinOf(BinCentre(b)) == b);
+  }
+}
+
+TEST_CASE("grid geometry: horizon mask and cos weight", "[merl]") {
+  const GridGeometry& g = Geometry();
+  REQUIRE(g.valid.size() == kBins);
+  std::size_t valid = 0;
+  for (std::size_t i = 0; i < kBins; ++i) {
+    if (!g.valid[i]) {
+      REQUIRE(g.cos_weight[i] == 0.0f);
+      continue;
+    }
+    ++valid;
+    REQUIRE(g.cos_weight[i] >= float(kCosWeightMin));
+    REQUIRE(g.cos_weight[i] <= 1.0f);
+  }
+  CHECK(valid == g.valid_bins.size());
+  // theta_h + theta_d < 90 degrees is always above the horizon; theta_h + theta_d well over 90
+  // with phi_d = 0 (w_i tilted further down) never is.
+  CHECK(g.valid[BinIndex{10, 20, 0}.Flat()]);
+  CHECK_FALSE(g.valid[BinIndex{70, 60, 0}.Flat()]);
+  // Normal incidence and reflection: theta_h = theta_d = 0 gives cosw ~ 1.
+  CHECK(g.cos_weight[BinIndex{0, 0, 0}.Flat()] == Approx(1.0).epsilon(1e-3));
+  // About three quarters of the grid is above the horizon.
+  CHECK(double(valid) / kBins > 0.7);
+  CHECK(double(valid) / kBins < 0.8);
+}
