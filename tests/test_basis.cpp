@@ -35,7 +35,6 @@ const BasisData& SmallBasis() {
   return basis;
 }
 
-
 }  // namespace
 
 TEST_CASE("reference and mean follow the definitions, bin by bin", "[basis]") {
@@ -49,7 +48,8 @@ TEST_CASE("reference and mean follow the definitions, bin by bin", "[basis]") {
     const std::uint32_t bin = g.valid_bins[i];
     std::vector<double> weighted;
     for (const auto& t : tables)
-      for (int c = 0; c < 3; ++c) weighted.push_back(std::max(t.Value(c, bin), 0.0) * g.cos_weight[bin]);
+      for (int c = 0; c < 3; ++c)
+        weighted.push_back(std::max(t.Value(c, bin), 0.0) * g.cos_weight[bin]);
     const double ref = Median(weighted);
     double mean = 0;
     for (double w : weighted) mean += MapBrdf(w, 1.0, ref) / 15.0;
@@ -72,7 +72,8 @@ TEST_CASE("components are scaled by their singular values: Q^T Q = diag(s^2)", "
   for (int i = 0; i < k; ++i) {
     // Off-diagonals and diagonals relative to the largest: float32 rows over ~1.1M bins.
     CHECK(gram(i, i) == Approx(basis.singular_values[i] * basis.singular_values[i])
-                            .epsilon(1e-4).margin(1e-6 * s0 * s0));
+                            .epsilon(1e-4)
+                            .margin(1e-6 * s0 * s0));
     for (int j = 0; j < i; ++j) CHECK(std::abs(gram(i, j)) < 1e-5 * s0 * s0);
   }
   for (int i = 1; i < k; ++i) CHECK(basis.singular_values[i] <= basis.singular_values[i - 1]);

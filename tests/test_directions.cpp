@@ -24,21 +24,26 @@ TEST_CASE("bad direction files name file:line and the problem", "[directions]") 
     std::ofstream(dir / name) << text;
     return dir / name;
   };
-  const std::string below = write("below.tsv", "# c\ntheta_h\ttheta_d\tphi_d\n0\t30\t0\n60\t50\t0\n");
+  const std::string below =
+      write("below.tsv", "# c\ntheta_h\ttheta_d\tphi_d\n0\t30\t0\n60\t50\t0\n");
   CHECK_THROWS_WITH(ReadDirectionsTsv(below),
                     Catch::Contains("below.tsv:4") && Catch::Contains("below the horizon"));
   const std::string bad = write("bad.tsv", "theta_h\ttheta_d\tphi_d\n0\tthirty\t0\n");
-  CHECK_THROWS_WITH(ReadDirectionsTsv(bad), Catch::Contains("bad.tsv:2") && Catch::Contains("three numbers"));
+  CHECK_THROWS_WITH(ReadDirectionsTsv(bad),
+                    Catch::Contains("bad.tsv:2") && Catch::Contains("three numbers"));
   const std::string range = write("range.tsv", "theta_h\ttheta_d\tphi_d\n95\t3\t0\n");
-  CHECK_THROWS_WITH(ReadDirectionsTsv(range), Catch::Contains("range.tsv:2") && Catch::Contains("out of range"));
+  CHECK_THROWS_WITH(ReadDirectionsTsv(range),
+                    Catch::Contains("range.tsv:2") && Catch::Contains("out of range"));
   const std::string header = write("header.tsv", "0\t30\t0\n");
   CHECK_THROWS_WITH(ReadDirectionsTsv(header), Catch::Contains("header"));
   const std::string empty = write("empty.tsv", "theta_h\ttheta_d\tphi_d\n");
   CHECK_THROWS_WITH(ReadDirectionsTsv(empty), Catch::Contains("no directions"));
 }
 
-TEST_CASE("random directions: deterministic, valid, and they round-trip through TSV", "[directions]") {
-  const auto a = RandomDirections(25, 42), b = RandomDirections(25, 42), c = RandomDirections(25, 43);
+TEST_CASE("random directions: deterministic, valid, and they round-trip through TSV",
+          "[directions]") {
+  const auto a = RandomDirections(25, 42), b = RandomDirections(25, 42),
+             c = RandomDirections(25, 43);
   CHECK(BinsOf(a) == BinsOf(b));
   CHECK(BinsOf(a) != BinsOf(c));
   for (std::size_t bin : BinsOf(a)) CHECK(merl::Geometry().valid[bin]);

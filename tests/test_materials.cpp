@@ -18,7 +18,7 @@ TEST_CASE("the shipped fits list sorted, and the issue's hold-out rule", "[mater
   CHECK(split.training.size() == 90);
   // `ls data/nbrdf/merl | LC_ALL=C sort | sed -n '6~10p'`
   const std::vector<std::string> expected = {
-      "black-fabric", "brass",       "dark-specular-fabric",    "green-fabric",     "natural-209",
+      "black-fabric", "brass",        "dark-specular-fabric",    "green-fabric",     "natural-209",
       "pink-jasper",  "red-phenolic", "specular-green-phenolic", "tungsten-carbide", "white-paint"};
   REQUIRE(split.held_out.size() == expected.size());
   for (std::size_t i = 0; i < expected.size(); ++i) CHECK(split.held_out[i].name == expected[i]);

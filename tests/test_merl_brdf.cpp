@@ -101,9 +101,9 @@ TEST_CASE("bad .binary files are refused with the file and the problem named", "
   const double bad = std::nan("");
   std::memcpy(nan.data() + 12 + 8 * (merl::kBins + 5), &bad, 8);
   WriteRaw(dir / "nan.binary", nan);
-  CHECK_THROWS_WITH(ReadMerlBinary(dir / "nan.binary"),
-                    Catch::Contains("nan.binary") && Catch::Contains("channel G") &&
-                        Catch::Contains("phi_d 5"));
+  CHECK_THROWS_WITH(ReadMerlBinary(dir / "nan.binary"), Catch::Contains("nan.binary") &&
+                                                            Catch::Contains("channel G") &&
+                                                            Catch::Contains("phi_d 5"));
 
   WriteRaw(dir / "long.binary", good + "x");
   CHECK_THROWS_WITH(ReadMerlBinary(dir / "long.binary"), Catch::Contains("trailing"));

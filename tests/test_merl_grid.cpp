@@ -9,10 +9,10 @@ using namespace acq::merl;
 TEST_CASE("theta_h index, hand computed", "[merl]") {
   CHECK(ThetaHIndex(0.0) == 0);
   CHECK(ThetaHIndex(-0.1) == 0);
-  CHECK(ThetaHIndex(DegToRad(1)) == 9);     // sqrt(1/90) * 90 = 9.49
+  CHECK(ThetaHIndex(DegToRad(1)) == 9);      // sqrt(1/90) * 90 = 9.49
   CHECK(ThetaHIndex(DegToRad(10.1)) == 30);  // sqrt(10.1/90) * 90 = 30.15
-  CHECK(ThetaHIndex(DegToRad(9.9)) == 29);  // 29.85
-  CHECK(ThetaHIndex(DegToRad(45)) == 63);   // sqrt(0.5) * 90 = 63.64
+  CHECK(ThetaHIndex(DegToRad(9.9)) == 29);   // 29.85
+  CHECK(ThetaHIndex(DegToRad(45)) == 63);    // sqrt(0.5) * 90 = 63.64
   CHECK(ThetaHIndex(DegToRad(89.9)) == 89);
   CHECK(ThetaHIndex(DegToRad(90)) == 89);  // clamped, as in MERL's reader
 }
@@ -24,9 +24,9 @@ TEST_CASE("theta_d and phi_d indices, hand computed", "[merl]") {
   CHECK(PhiDIndex(DegToRad(0.5)) == 0);
   CHECK(PhiDIndex(DegToRad(1.5)) == 1);
   CHECK(PhiDIndex(DegToRad(179.5)) == 179);
-  CHECK(PhiDIndex(kPi) == 179);                 // phi_d = pi is clamped into the last bin
-  CHECK(PhiDIndex(DegToRad(-90.5)) == 89);      // -90.5 + 180 = 89.5 (reciprocity fold)
-  CHECK(PhiDIndex(DegToRad(-0.5)) == 179);      // just below 0 folds to just below pi
+  CHECK(PhiDIndex(kPi) == 179);             // phi_d = pi is clamped into the last bin
+  CHECK(PhiDIndex(DegToRad(-90.5)) == 89);  // -90.5 + 180 = 89.5 (reciprocity fold)
+  CHECK(PhiDIndex(DegToRad(-0.5)) == 179);  // just below 0 folds to just below pi
 }
 
 TEST_CASE("flat index layout is phi_d + 180 theta_d + 16200 theta_h", "[merl]") {

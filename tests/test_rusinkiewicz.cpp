@@ -60,7 +60,7 @@ TEST_CASE("angles -> directions -> angles round trip, including the edges", "[ru
     double th, td, pd;
   };
   const double tiny = 1e-9;
-  const Case cases[] = {{0.3, 0.4, 0.0},       {0.3, 0.4, tiny},         {0.3, 0.4, -tiny},
+  const Case cases[] = {{0.3, 0.4, 0.0},        {0.3, 0.4, tiny},        {0.3, 0.4, -tiny},
                         {0.3, 0.4, kPi - tiny}, {0.3, 0.4, -kPi + tiny}, {0.3, 0.4, kPi / 2},
                         {1e-6, 0.5, 1.0},       {0.2, 1.2, 2.5}};
   for (const Case& c : cases) {

@@ -19,12 +19,12 @@
 namespace acq {
 
 struct BasisView {
-  int components = 0;     // k stored
-  int training_rows = 0;  // m: 3 x number of training materials
-  const std::uint8_t* valid = nullptr;  // kBins
-  const float* ref = nullptr;           // kBins, rho_ref (cos-weighted), 0 where invalid
-  const float* mean = nullptr;          // kBins, mu, 0 where invalid
-  const float* q = nullptr;             // kBins x components, row-major (one row per bin)
+  int components = 0;                       // k stored
+  int training_rows = 0;                    // m: 3 x number of training materials
+  const std::uint8_t* valid = nullptr;      // kBins
+  const float* ref = nullptr;               // kBins, rho_ref (cos-weighted), 0 where invalid
+  const float* mean = nullptr;              // kBins, mu, 0 where invalid
+  const float* q = nullptr;                 // kBins x components, row-major (one row per bin)
   std::span<const double> singular_values;  // all of them, descending (training_rows)
   std::string_view settings;                // YAML text: how it was built
 

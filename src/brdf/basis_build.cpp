@@ -48,18 +48,18 @@ std::string Settings(const MaterialSplit& split, const BasisOptions& options) {
 }  // namespace
 
 void BasisOptions::Check(int training_rows) const {
-  if (components < 1)
-    throw UserError("--components", "must be at least 1", "the default is 64");
+  if (components < 1) throw UserError("--components", "must be at least 1", "the default is 64");
   if (components > training_rows)
     throw UserError("--components",
-                    std::to_string(components) + " components asked, but the training set has only " +
+                    std::to_string(components) +
+                        " components asked, but the training set has only " +
                         std::to_string(training_rows) + " rows (3 per material)",
                     "use fewer components or more materials");
 }
 
 BasisView BasisData::View() const {
-  return {components, training_rows, valid.data(), ref.data(), mean.data(), q.data(),
-          singular_values, settings};
+  return {components,  training_rows, valid.data(),    ref.data(),
+          mean.data(), q.data(),      singular_values, settings};
 }
 
 BasisData BuildBasis(const MaterialSplit& split, const BasisOptions& options) {

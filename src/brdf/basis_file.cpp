@@ -43,7 +43,9 @@ struct Header {
 static_assert(sizeof(Header) == 128, "Header layout is part of the file format");
 static_assert(std::endian::native == std::endian::little, "the format is little-endian");
 
-std::uint64_t AlignUp(std::uint64_t x) { return (x + kAlign - 1) / kAlign * kAlign; }
+std::uint64_t AlignUp(std::uint64_t x) {
+  return (x + kAlign - 1) / kAlign * kAlign;
+}
 
 // zlib's crc32 takes uInt lengths; feed it in chunks.
 std::uint32_t CrcUpdate(std::uint32_t crc, const unsigned char* p, std::size_t n) {
@@ -71,7 +73,8 @@ class SectionWriter {
  public:
   SectionWriter(const std::string& path, const std::string& final_path)
       : f_(path, std::ios::binary | std::ios::trunc), final_path_(final_path) {
-    if (!f_) throw UserError(final_path, "cannot create file", "check the folder exists and is writable");
+    if (!f_)
+      throw UserError(final_path, "cannot create file", "check the folder exists and is writable");
   }
   void Put(std::uint64_t offset, const void* src, std::size_t n) {
     static const std::vector<unsigned char> zeros(kAlign, 0);
@@ -144,7 +147,10 @@ void WriteBasisFile(const BasisView& basis, const std::string& path) {
 }
 
 MappedBasis::MappedBasis(MappedBasis&& o) noexcept
-    : data_(o.data_), bytes_(o.bytes_), checksum_(o.checksum_), version_(o.version_),
+    : data_(o.data_),
+      bytes_(o.bytes_),
+      checksum_(o.checksum_),
+      version_(o.version_),
       view_(o.view_) {
   o.data_ = nullptr;
   o.bytes_ = 0;

@@ -31,8 +31,9 @@ void CheckAboveHorizon(const RusinkiewiczAngles& a, const std::string& where) {
                     "both zenith angles must be under 90 degrees; reduce theta_h or theta_d");
   }
   if (!merl::Geometry().valid[merl::BinOf(a).Flat()]) {
-    throw UserError(where, "direction (" + angles + ") falls in a MERL bin whose centre is below the horizon",
-                    "move it away from grazing");
+    throw UserError(
+        where, "direction (" + angles + ") falls in a MERL bin whose centre is below the horizon",
+        "move it away from grazing");
   }
 }
 
@@ -52,7 +53,8 @@ std::vector<Direction> ReadDirectionsTsv(const std::string& path) {
       std::string a, b, c;
       cols >> a >> b >> c;
       if (a != "theta_h" || b != "theta_d" || c != "phi_d")
-        throw UserError(where, "expected the header 'theta_h<TAB>theta_d<TAB>phi_d', got '" + line + "'",
+        throw UserError(where,
+                        "expected the header 'theta_h<TAB>theta_d<TAB>phi_d', got '" + line + "'",
                         "add the header line before the directions");
       header_seen = true;
       continue;

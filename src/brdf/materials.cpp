@@ -40,14 +40,16 @@ std::vector<MaterialFile> ListMaterials(const std::vector<std::string>& paths) {
             [](const MaterialFile& a, const MaterialFile& b) { return a.name < b.name; });
   for (std::size_t i = 1; i < out.size(); ++i) {
     if (out[i].name == out[i - 1].name)
-      throw UserError(out[i].path, "material '" + out[i].name + "' is given twice (also " +
-                                       out[i - 1].path + ")",
-                      "give each material once");
+      throw UserError(
+          out[i].path,
+          "material '" + out[i].name + "' is given twice (also " + out[i - 1].path + ")",
+          "give each material once");
   }
   if (out.empty()) {
     std::string where;
     for (const auto& a : paths) where += (where.empty() ? "" : " ") + a;
-    throw UserError(where.empty() ? "materials" : where, "empty material set: no .binary or .h5 files",
+    throw UserError(where.empty() ? "materials" : where,
+                    "empty material set: no .binary or .h5 files",
                     "point at the folder of fits, e.g. data/nbrdf/merl");
   }
   return out;
@@ -61,7 +63,8 @@ MerlBrdf LoadMaterial(const MaterialFile& file) {
 void HoldOut::Check() const {
   if (every < 0) throw UserError("--holdout-every", "must be >= 0 (0 disables it)");
   if (offset < 0 || (every > 0 && offset >= every))
-    throw UserError("--holdout-offset", "must be in [0, every)", "e.g. --holdout-every 10 --holdout-offset 5");
+    throw UserError("--holdout-offset", "must be in [0, every)",
+                    "e.g. --holdout-every 10 --holdout-offset 5");
 }
 
 MaterialSplit SplitMaterials(const std::vector<MaterialFile>& all, const HoldOut& hold_out) {

@@ -82,8 +82,12 @@ NeuralBrdf NeuralBrdf::Load(const std::string& path) {
 
 std::array<float, NeuralBrdf::kInputs> NeuralBrdf::Input(const RusinkiewiczAngles& a) {
   const Eigen::Vector3d d = DifferenceVector(a.theta_d, a.phi_d);
-  return {float(std::sin(a.theta_h)), 0.0f, float(std::cos(a.theta_h)),
-          float(d.x()),               float(d.y()), float(d.z())};
+  return {float(std::sin(a.theta_h)),
+          0.0f,
+          float(std::cos(a.theta_h)),
+          float(d.x()),
+          float(d.y()),
+          float(d.z())};
 }
 
 NeuralBrdf::RowMatrix NeuralBrdf::EvaluateBatch(const RowMatrix& inputs) const {
@@ -113,7 +117,7 @@ MerlBrdf NeuralBrdf::Tabulate() const {
     return x;
   }();
   const auto& bins = merl::Geometry().valid_bins;
-  MerlBrdf brdf;  // every bin starts as -1, "no data"
+  MerlBrdf brdf;                         // every bin starts as -1, "no data"
   constexpr Eigen::Index kBatch = 8192;  // keeps the hidden activations in cache
   for (Eigen::Index start = 0; start < kGridInputs.rows(); start += kBatch) {
     const Eigen::Index n = std::min(kBatch, kGridInputs.rows() - start);

@@ -9,9 +9,9 @@ namespace acq {
 
 void RidgeOptions::Check(const BasisView& basis) const {
   if (components < 1 || components > basis.components)
-    throw UserError("--k", "must be in [1, " + std::to_string(basis.components) +
-                               "] (components stored in the basis), got " +
-                               std::to_string(components),
+    throw UserError("--k",
+                    "must be in [1, " + std::to_string(basis.components) +
+                        "] (components stored in the basis), got " + std::to_string(components),
                     "rebuild the basis with more --components or ask for fewer");
   if (!(eta >= 0)) throw UserError("--eta", "must be >= 0", "the papers use 40");
 }

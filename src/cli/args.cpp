@@ -7,8 +7,8 @@
 
 namespace acq::cli {
 
-Args::Args(std::string command, const std::vector<std::string>& argv,
-           std::set<std::string> valued, std::set<std::string> flags)
+Args::Args(std::string command, const std::vector<std::string>& argv, std::set<std::string> valued,
+           std::set<std::string> flags)
     : command_(std::move(command)) {
   const std::string help = "see `" + command_ + " --help`";
   for (std::size_t i = 0; i < argv.size(); ++i) {
@@ -30,8 +30,7 @@ Args::Args(std::string command, const std::vector<std::string>& argv,
       values_[name].push_back("1");
     } else if (valued.count(name)) {
       if (!inline_value) {
-        if (i + 1 >= argv.size())
-          throw UserError(command_ + " --" + name, "needs a value", help);
+        if (i + 1 >= argv.size()) throw UserError(command_ + " --" + name, "needs a value", help);
         value = argv[++i];
       }
       values_[name].push_back(value);

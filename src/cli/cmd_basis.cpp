@@ -90,8 +90,8 @@ int BasisInfo(const Argv& argv) {
 }
 
 int BasisEval(const Argv& argv) {
-  const Args args("acq basis eval", argv,
-                  {"basis", "directions", "k", "eta", "write-recon", "csv"}, {"all-given"});
+  const Args args("acq basis eval", argv, {"basis", "directions", "k", "eta", "write-recon", "csv"},
+                  {"all-given"});
   const std::string basis_path = args.Required("basis");
   const MappedBasis mapped = MappedBasis::Open(basis_path);
   const BasisView& basis = mapped.View();
@@ -112,10 +112,12 @@ int BasisEval(const Argv& argv) {
     const std::set<std::string> keep(held_out.begin(), held_out.end());
     std::erase_if(materials, [&](const MaterialFile& m) { return !keep.count(m.name); });
     if (materials.size() != keep.size())
-      std::fprintf(stderr, "warning: %zu of the basis's %zu held-out materials are among those given\n",
+      std::fprintf(stderr,
+                   "warning: %zu of the basis's %zu held-out materials are among those given\n",
                    materials.size(), keep.size());
     if (materials.empty())
-      throw UserError("acq basis eval", "none of the basis's held-out materials is among those given",
+      throw UserError("acq basis eval",
+                      "none of the basis's held-out materials is among those given",
                       "give the folder the basis was built from, or use --all-given");
   }
 
@@ -128,7 +130,8 @@ int BasisEval(const Argv& argv) {
     try {
       const MerlBrdf truth = LoadMaterial(materials[i]);
       MerlBrdf recon;
-      results[i] = EvaluateHomogeneous(basis, truth, bins, ridge, recon_dir.empty() ? nullptr : &recon);
+      results[i] =
+          EvaluateHomogeneous(basis, truth, bins, ridge, recon_dir.empty() ? nullptr : &recon);
       if (!recon_dir.empty())
         WriteMerlBinary(recon, recon_dir + "/" + materials[i].name + ".binary");
     } catch (...) {
@@ -146,8 +149,8 @@ int BasisEval(const Argv& argv) {
   for (std::size_t i = 0; i < materials.size(); ++i) {
     const auto& r = results[i];
     std::printf("%-28s %8.4f %8.4f %8.4f   %8.4f %8.4f %8.4f\n", materials[i].name.c_str(),
-                r[0].log_rmse, r[1].log_rmse, r[2].log_rmse, r[0].relative_rmse,
-                r[1].relative_rmse, r[2].relative_rmse);
+                r[0].log_rmse, r[1].log_rmse, r[2].log_rmse, r[0].relative_rmse, r[1].relative_rmse,
+                r[2].relative_rmse);
     for (const auto& c : r) {
       log_all.push_back(c.log_rmse);
       rel_all.push_back(c.relative_rmse);
@@ -172,8 +175,9 @@ int BasisEval(const Argv& argv) {
     csv << "material,channel,log_rmse,relative_rmse,condition\n";
     for (std::size_t i = 0; i < materials.size(); ++i)
       for (int c = 0; c < 3; ++c)
-        csv << materials[i].name << "," << "RGB"[c] << "," << results[i][c].log_rmse << ","
-            << results[i][c].relative_rmse << "," << results[i][c].condition << "\n";
+        csv << materials[i].name << ","
+            << "RGB"[c] << "," << results[i][c].log_rmse << "," << results[i][c].relative_rmse
+            << "," << results[i][c].condition << "\n";
   }
   return 0;
 }

@@ -8,7 +8,9 @@
 namespace acq::merl {
 namespace {
 
-int ClampIndex(int i, int n) { return std::clamp(i, 0, n - 1); }
+int ClampIndex(int i, int n) {
+  return std::clamp(i, 0, n - 1);
+}
 
 }  // namespace
 

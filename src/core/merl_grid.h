@@ -47,8 +47,8 @@ double CosWeight(const DirectionPair& d);
 // Per-bin geometry at the bin centres: which bins have both directions above the horizon
 // (the others are masked out everywhere), and their cos weight.
 struct GridGeometry {
-  std::vector<std::uint8_t> valid;  // kBins entries, 1 = above the horizon
-  std::vector<float> cos_weight;    // kBins entries, 0 where invalid
+  std::vector<std::uint8_t> valid;        // kBins entries, 1 = above the horizon
+  std::vector<float> cos_weight;          // kBins entries, 0 where invalid
   std::vector<std::uint32_t> valid_bins;  // flat indices of the valid bins, ascending
 };
 const GridGeometry& Geometry();  // computed once, thread-safe

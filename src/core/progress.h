@@ -13,7 +13,10 @@ namespace acq {
 class Progress {
  public:
   Progress(std::string stage, std::size_t total, bool enabled = true)
-      : stage_(std::move(stage)), total_(total), enabled_(enabled), start_(Clock::now()),
+      : stage_(std::move(stage)),
+        total_(total),
+        enabled_(enabled),
+        start_(Clock::now()),
         last_(start_) {
     if (enabled_) std::fprintf(stderr, "%s: 0/%zu\n", stage_.c_str(), total_);
   }

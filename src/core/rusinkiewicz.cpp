@@ -12,7 +12,9 @@ Eigen::Vector3d SphericalToVector(double theta, double phi) {
 
 // Zenith angle of a unit vector; atan2 keeps full precision near the pole, where acos loses
 // half the digits.
-double Zenith(const Eigen::Vector3d& v) { return std::atan2(std::hypot(v.x(), v.y()), v.z()); }
+double Zenith(const Eigen::Vector3d& v) {
+  return std::atan2(std::hypot(v.x(), v.y()), v.z());
+}
 
 // Below this the half vector is the normal to within rounding and its azimuth is noise.
 constexpr double kPoleTolerance = 1e-12;
@@ -40,16 +42,17 @@ RusinkiewiczAngles RusinkiewiczFromDirections(const Eigen::Vector3d& in,
 }
 
 DirectionPair DirectionsFromRusinkiewicz(const RusinkiewiczAngles& a) {
-  const Eigen::Matrix3d world_from_half =
-      (Eigen::AngleAxisd(a.phi_h, Eigen::Vector3d::UnitZ()) *
-       Eigen::AngleAxisd(a.theta_h, Eigen::Vector3d::UnitY()))
-          .toRotationMatrix();
+  const Eigen::Matrix3d world_from_half = (Eigen::AngleAxisd(a.phi_h, Eigen::Vector3d::UnitZ()) *
+                                           Eigen::AngleAxisd(a.theta_h, Eigen::Vector3d::UnitY()))
+                                              .toRotationMatrix();
   const Eigen::Vector3d diff = DifferenceVector(a.theta_d, a.phi_d);
   // In the half frame the half vector is z; w_o is w_i reflected about it.
   const Eigen::Vector3d reflected(-diff.x(), -diff.y(), diff.z());
   return {world_from_half * diff, world_from_half * reflected};
 }
 
-bool AboveHorizon(const DirectionPair& d) { return d.in.z() > 0.0 && d.out.z() > 0.0; }
+bool AboveHorizon(const DirectionPair& d) {
+  return d.in.z() > 0.0 && d.out.z() > 0.0;
+}
 
 }  // namespace acq
