@@ -67,3 +67,21 @@ TEST_CASE("grid geometry: horizon mask and cos weight", "[merl]") {
   CHECK(double(valid) / kBins > 0.7);
   CHECK(double(valid) / kBins < 0.8);
 }
+
+TEST_CASE("angles on bin edges survive a trip through direction vectors", "[merl]") {
+  // The seed's directions are whole degrees, exactly on MERL bin edges in theta_d and phi_d.
+  for (double td : {16.0, 30.0, 44.0, 63.0}) {
+    for (double pd : {0.0, 22.0, 151.0}) {
+      RusinkiewiczAngles a;
+      a.theta_h = DegToRad(2);
+      a.theta_d = DegToRad(td);
+      a.phi_d = DegToRad(pd);
+      const DirectionPair d = DirectionsFromRusinkiewicz(a);
+      INFO("theta_d " << td << " phi_d " << pd);
+      CHECK(BinOf(RusinkiewiczFromDirections(d.in, d.out)) == BinOf(a));
+      CHECK(BinOf(a).theta_d == int(td));
+      CHECK(BinOf(a).phi_d == int(pd));
+    }
+  }
+  CHECK(PhiDIndex(-1e-17) == 0);  // rounding below 0 is 0, not folded to pi
+}

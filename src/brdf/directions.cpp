@@ -7,6 +7,7 @@
 
 #include "core/angles.h"
 #include "core/error.h"
+#include "core/gantry_geometry.h"
 
 namespace acq {
 namespace {
@@ -45,6 +46,7 @@ std::vector<Direction> ReadDirectionsTsv(const std::string& path) {
   std::vector<Direction> out;
   std::string line;
   bool header_seen = false;
+  int extra_columns = 0;  // e.g. the arm angles that `acq directions optimize` writes
   for (int number = 1; std::getline(f, line); ++number) {
     const std::string where = path + ":" + std::to_string(number);
     if (line.empty() || line[0] == '#') continue;
@@ -53,16 +55,20 @@ std::vector<Direction> ReadDirectionsTsv(const std::string& path) {
       std::string a, b, c;
       cols >> a >> b >> c;
       if (a != "theta_h" || b != "theta_d" || c != "phi_d")
-        throw UserError(where,
-                        "expected the header 'theta_h<TAB>theta_d<TAB>phi_d', got '" + line + "'",
-                        "add the header line before the directions");
+        throw UserError(
+            where, "expected a header starting 'theta_h<TAB>theta_d<TAB>phi_d', got '" + line + "'",
+            "add the header line before the directions");
+      for (std::string extra; cols >> extra;) ++extra_columns;
       header_seen = true;
       continue;
     }
     double th, td, pd;
-    std::string rest;
-    if (!(cols >> th >> td >> pd) || (cols >> rest))
-      throw UserError(where, "expected three numbers (degrees), got '" + line + "'");
+    int extra = 0;
+    bool ok = bool(cols >> th >> td >> pd);
+    for (double v; ok && cols >> v;) ++extra;
+    if (!ok || !cols.eof() || extra != extra_columns)
+      throw UserError(where, "expected " + std::to_string(3 + extra_columns) +
+                                 " numbers (degrees) as in the header, got '" + line + "'");
     if (!(th >= 0 && th <= 90) || !(td >= 0 && td <= 90) || !(pd >= -180 && pd <= 360))
       throw UserError(where, "angle out of range in '" + line + "'",
                       "theta_h and theta_d in [0, 90], phi_d in [-180, 360] degrees");
@@ -85,12 +91,16 @@ void WriteDirectionsTsv(const std::vector<Direction>& directions, const std::str
   if (!f) throw UserError(path, "cannot create file", "check the folder exists and is writable");
   std::istringstream lines(comment);
   for (std::string l; std::getline(lines, l);) f << "# " << l << "\n";
-  f << "theta_h\ttheta_d\tphi_d\n";
+  f << "theta_h\ttheta_d\tphi_d\tlight_theta_deg\tlight_phi_deg\tcamera_theta_deg\tcamera_phi_"
+       "deg\n";
   f.precision(10);  // enough that a direction never changes MERL bin on a round trip
   for (const auto& d : directions) {
     double phi_d = RadToDeg(d.angles.phi_d);
     if (phi_d < 0) phi_d += 360;
-    f << RadToDeg(d.angles.theta_h) << "\t" << RadToDeg(d.angles.theta_d) << "\t" << phi_d << "\n";
+    const ArmAngles arms = ArmAnglesFor(d.angles);
+    f << RadToDeg(d.angles.theta_h) << "\t" << RadToDeg(d.angles.theta_d) << "\t" << phi_d << "\t"
+      << RadToDeg(arms.light_theta) << "\t" << RadToDeg(arms.light_phi) << "\t"
+      << RadToDeg(arms.camera_theta) << "\t" << RadToDeg(arms.camera_phi) << "\n";
   }
   if (!f) throw UserError(path, "write failed", "check free disk space");
 }

@@ -1,6 +1,7 @@
 // Light/view direction sets, as TSV in degrees (like data/directions/seed_directions_20.tsv):
 // '#' comment lines, a header naming the columns theta_h, theta_d, phi_d, then one direction a
-// line in Rusinkiewicz coordinates (phi_h is free for isotropic BRDFs).
+// line in Rusinkiewicz coordinates (phi_h is free for isotropic BRDFs). Further columns (the
+// writer adds the arm angles for phi_h = 0, camera on the smaller zenith) are ignored on read.
 #pragma once
 
 #include <cstdint>

@@ -24,7 +24,9 @@ Eigen::VectorXd SampledMean(const BasisView& basis, const std::vector<std::size_
 Eigen::VectorXd RidgeSolve(const Eigen::MatrixXd& qs, const Eigen::VectorXd& xs_minus_mu,
                            double eta);
 
-// Condition number of qs (ratio of extreme singular values; infinite if rank deficient).
+// Condition number of qs (ratio of extreme singular values; infinite if rank deficient or
+// n < k), and of the first k columns of the basis rows at `bins`.
 double ConditionNumber(const Eigen::MatrixXd& qs);
+double ConditionOfBins(const BasisView& basis, const std::vector<std::size_t>& bins, int k);
 
 }  // namespace acq

@@ -39,6 +39,23 @@ const std::map<std::string, Command>& Commands() {
        {DirectionsRandom,
         "acq directions random --n N [--seed S] -o TSV\n"
         "  N directions, light and camera uniform over the hemisphere."}},
+      {"directions optimize",
+       {DirectionsOptimize,
+        "acq directions optimize --basis BASIS --n N -o TSV [--k N] [--seed 1] [--candidates "
+        "1000]\n"
+        "    [--max-camera-zenith-deg 65] [--max-light-zenith-deg 85] [--min-separation-deg 20]\n"
+        "    [--unconstrained] [--fov-deg F | --sample-size-mm S] [--camera-distance-mm 1000]\n"
+        "    [--light-distance-mm 1000] [--fov-grid 3] [--fov-objective worst|mean]\n"
+        "  Minimises the condition number of the sampled basis rows (NJR15), under the gantry's\n"
+        "  constraints; with a field of view, the worst (or mean) over positions on the sample."}},
+      {"directions eval",
+       {DirectionsEval,
+        "acq directions eval --basis BASIS --directions TSV [MATERIALS...] [--k n] [--eta 40]\n"
+        "    [--fov-deg 0,4,10 | --sample-size-mm S] [--camera-distance-mm 1000]\n"
+        "    [--light-distance-mm 1000] [--grid 10] [--ignore-near-field] [--noise 0,0.05]\n"
+        "    [--noise-trials 8] [--csv FILE --label L]\n"
+        "  Condition numbers and held-out log-space error over a field of view, each position\n"
+        "  with its own true directions and rows (the near-field effect)."}},
   };
   return commands;
 }

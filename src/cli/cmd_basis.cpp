@@ -1,11 +1,8 @@
-#include <yaml-cpp/yaml.h>
-
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
-#include <set>
 
 #include "brdf/basis.h"
 #include "brdf/basis_file.h"
@@ -13,29 +10,10 @@
 #include "brdf/evaluation.h"
 #include "cli/args.h"
 #include "cli/commands.h"
+#include "cli/held_out.h"
 #include "core/error.h"
 
 namespace acq::cli {
-namespace {
-
-// Above this the sampled rows amplify observation noise badly (NJR15 optimised sets of 20
-// directions sit far below it on this basis); the user is warned, not stopped.
-constexpr double kConditionWarning = 1e3;
-
-std::vector<std::string> HeldOutNames(const BasisView& basis, const std::string& path) {
-  try {
-    const YAML::Node settings = YAML::Load(std::string(basis.settings));
-    std::vector<std::string> names;
-    for (const auto& n : settings["held_out"]) names.push_back(n.as<std::string>());
-    return names;
-  } catch (const YAML::Exception& e) {
-    throw UserError(path, std::string("cannot parse the basis settings: ") + e.what(),
-                    "rebuild the basis");
-  }
-}
-
-}  // namespace
-
 int BasisBuild(const Argv& argv) {
   const Args args("acq basis build", argv,
                   {"o", "output", "components", "holdout-every", "holdout-offset", "holdout"},
@@ -102,24 +80,7 @@ int BasisEval(const Argv& argv) {
   const std::vector<Direction> directions = ReadDirectionsTsv(args.Required("directions"));
   const std::vector<std::size_t> bins = BinsOf(directions);
 
-  // Which materials: the basis's held-out set among those given, unless --all-given.
-  if (args.positionals().empty())
-    throw UserError("acq basis eval", "no materials given",
-                    "name the materials or their folder, e.g. data/nbrdf/merl");
-  std::vector<MaterialFile> materials = ListMaterials(args.positionals());
-  const std::vector<std::string> held_out = HeldOutNames(basis, basis_path);
-  if (!args.Has("all-given") && !held_out.empty()) {
-    const std::set<std::string> keep(held_out.begin(), held_out.end());
-    std::erase_if(materials, [&](const MaterialFile& m) { return !keep.count(m.name); });
-    if (materials.size() != keep.size())
-      std::fprintf(stderr,
-                   "warning: %zu of the basis's %zu held-out materials are among those given\n",
-                   materials.size(), keep.size());
-    if (materials.empty())
-      throw UserError("acq basis eval",
-                      "none of the basis's held-out materials is among those given",
-                      "give the folder the basis was built from, or use --all-given");
-  }
+  std::vector<MaterialFile> materials = SelectHeldOut(basis, basis_path, args, "acq basis eval");
 
   const std::string recon_dir = args.Get("write-recon");
   if (!recon_dir.empty()) std::filesystem::create_directories(recon_dir);

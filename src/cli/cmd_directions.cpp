@@ -1,10 +1,28 @@
 #include <cstdio>
+#include <filesystem>
+#include <fstream>
 
+#include "brdf/basis_file.h"
+#include "brdf/direction_optimizer.h"
 #include "brdf/directions.h"
+#include "brdf/evaluation.h"
+#include "brdf/fov_evaluation.h"
 #include "cli/args.h"
 #include "cli/commands.h"
+#include "cli/geometry_args.h"
+#include "cli/held_out.h"
+#include "core/angles.h"
+#include "core/error.h"
 
 namespace acq::cli {
+namespace {
+
+std::set<std::string> With(std::set<std::string> a, const std::set<std::string>& b) {
+  a.insert(b.begin(), b.end());
+  return a;
+}
+
+}  // namespace
 
 int DirectionsRandom(const Argv& argv) {
   const Args args("acq directions random", argv, {"n", "seed", "o"}, {});
@@ -17,6 +35,159 @@ int DirectionsRandom(const Argv& argv) {
                          "hemisphere), seed " +
                          std::to_string(seed) + "; Rusinkiewicz, degrees");
   std::printf("wrote %d directions to %s\n", n, out.c_str());
+  return 0;
+}
+
+int DirectionsOptimize(const Argv& argv) {
+  const Args args("acq directions optimize", argv,
+                  With(With({"basis", "n", "k", "seed", "candidates", "o", "fov-grid",
+                             "fov-objective", "score", "eta", "max-condition"},
+                            kConstraintOptions),
+                       kGeometryOptions),
+                  {"unconstrained", "quiet"});
+  const std::string basis_path = args.Required("basis");
+  const std::string out = args.Required("o");
+  const MappedBasis mapped = MappedBasis::Open(basis_path);
+  OptimizerOptions o;
+  o.n = args.GetInt("n", o.n);
+  o.k = args.GetInt("k", 0);
+  o.seed = std::uint64_t(args.GetInt("seed", 1));
+  o.candidates = args.GetInt("candidates", o.candidates);
+  o.constraints = ConstraintsFrom(args);
+  o.fov_grid = args.GetInt("fov-grid", o.fov_grid);
+  o.progress = !args.Has("quiet");
+  const std::vector<NearFieldGeometry> geometries = GeometriesFrom(args);
+  if (geometries.size() != 1)
+    throw UserError("--fov-deg", "optimise for one field of view at a time");
+  o.geometry = geometries[0];
+  const std::string objective = args.Get("fov-objective", "worst");
+  if (objective != "worst" && objective != "mean")
+    throw UserError("--fov-objective", "must be 'worst' or 'mean', got '" + objective + "'");
+  o.fov_objective = objective == "worst" ? FovObjective::kWorst : FovObjective::kMean;
+  const std::string score = args.Get("score", "expected-error");
+  if (score != "condition" && score != "expected-error")
+    throw UserError("--score", "must be 'condition' or 'expected-error', got '" + score + "'");
+  o.score = score == "condition" ? Score::kCondition : Score::kExpectedError;
+  o.eta = args.GetDouble("eta", o.eta);
+  o.max_condition = args.GetDouble("max-condition", o.max_condition);
+  if (!(o.max_condition > 1)) throw UserError("--max-condition", "must be greater than 1");
+
+  const OptimizedDirections result = OptimizeDirections(mapped.View(), o);
+  for (const Direction& d : result.directions) {
+    const std::string why = o.constraints.Violation(ArmAnglesFor(d.angles));
+    if (!why.empty()) throw std::logic_error("optimiser returned a disallowed direction: " + why);
+  }
+  char comment[512];
+  std::snprintf(
+      comment, sizeof comment,
+      "%d directions optimised by acq directions optimize on %s\n"
+      "k = %d, seed %llu, %d candidates; constraints: %s\n"
+      "field of view %.2f deg (%s objective); condition number %.6g\n"
+      "Rusinkiewicz angles in degrees, then arm angles for phi_h = 0 (camera on the "
+      "smaller zenith)",
+      o.n, basis_path.c_str(), o.EffectiveK(), (unsigned long long)o.seed, o.candidates,
+      o.constraints.enabled
+          ? ("camera zenith <= " + std::to_string(RadToDeg(o.constraints.max_camera_zenith)) +
+             ", light zenith <= " + std::to_string(RadToDeg(o.constraints.max_light_zenith)) +
+             ", separation >= " + std::to_string(RadToDeg(o.constraints.min_separation)))
+                .c_str()
+          : "above the horizon only",
+      FovDeg(o.geometry), objective.c_str(), result.condition);
+  WriteDirectionsTsv(result.directions, out, comment);
+  std::printf(
+      "optimised %d directions in %.1f s: condition number %.4g (k = %d%s)\nwrote %s\n", o.n,
+      result.seconds, result.condition, o.EffectiveK(),
+      o.geometry.sample_size_mm > 0 ? (", " + objective + " over the field of view").c_str() : "",
+      out.c_str());
+  return 0;
+}
+
+int DirectionsEval(const Argv& argv) {
+  const Args args("acq directions eval", argv,
+                  With({"basis", "directions", "k", "eta", "noise", "noise-trials", "grid", "csv",
+                        "label", "seed"},
+                       kGeometryOptions),
+                  {"all-given", "ignore-near-field"});
+  const std::string basis_path = args.Required("basis");
+  const MappedBasis mapped = MappedBasis::Open(basis_path);
+  const BasisView& basis = mapped.View();
+  const std::string directions_path = args.Required("directions");
+  const std::vector<Direction> directions = ReadDirectionsTsv(directions_path);
+  FovEvalOptions o;
+  o.ridge.components = args.GetInt("k", int(directions.size()));
+  o.ridge.eta = args.GetDouble("eta", o.ridge.eta);
+  o.ridge.Check(basis);
+  o.grid = args.GetInt("grid", o.grid);
+  if (o.grid < 1) throw UserError("--grid", "must be at least 1");
+  o.ignore_near_field = args.Has("ignore-near-field");
+  o.noise_trials = args.GetInt("noise-trials", o.noise_trials);
+  o.seed = std::uint64_t(args.GetInt("seed", 1));
+  std::vector<double> noise_levels;
+  for (const std::string& s :
+       args.Has("noise") ? args.All("noise") : std::vector<std::string>{"0"}) {
+    try {
+      noise_levels.push_back(std::stod(s));
+    } catch (const std::exception&) {
+      throw UserError("--noise", "expected numbers, got '" + s + "'");
+    }
+    if (!(noise_levels.back() >= 0)) throw UserError("--noise", "must be >= 0");
+  }
+
+  std::vector<MerlBrdf> truths;
+  const auto materials = SelectHeldOut(basis, basis_path, args, "acq directions eval");
+  truths.resize(materials.size());
+  for (std::size_t i = 0; i < materials.size(); ++i) truths[i] = LoadMaterial(materials[i]);
+  const HeldOutSet held_out(basis, truths);
+
+  const std::string csv_path = args.Get("csv");
+  std::ofstream csv;
+  if (!csv_path.empty()) {
+    const bool fresh = !std::filesystem::exists(csv_path);
+    csv.open(csv_path, std::ios::app);
+    if (!csv) throw UserError(csv_path, "cannot write file");
+    if (fresh)
+      csv << "label,directions,n,k,eta,fov_deg,sample_size_mm,positions,ignore_near_field,"
+             "noise_sigma,condition_centre,condition_median,condition_worst,noise_gain,"
+             "median_log_rmse,median_worst_position_log_rmse\n";
+  }
+  std::printf("directions %s (n = %zu), k = %d, eta = %g, %zu held-out materials\n",
+              directions_path.c_str(), directions.size(), o.ridge.components, o.ridge.eta,
+              materials.size());
+  std::printf("%8s %9s %6s %8s %11s %11s %11s %8s %10s %10s\n", "fov_deg", "sample_mm", "noise",
+              "positions", "cond_centre", "cond_median", "cond_worst", "gain", "log_rmse",
+              "worst_pos");
+  bool warned = false;
+  for (const NearFieldGeometry& g : GeometriesFrom(args)) {
+    for (double sigma : noise_levels) {
+      o.geometry = g;
+      o.noise_sigma = sigma;
+      const FovResult r = EvaluateOverFov(held_out, directions, o);
+      const double median = Median(r.channel_log_rmse);
+      const double worst = Median(r.channel_worst_log_rmse);
+      std::printf("%8.2f %9.1f %6.3f %8d %11.4g %11.4g %11.4g %8.3f %10.4f %10.4f\n", FovDeg(g),
+                  g.sample_size_mm, sigma, r.positions, r.condition_centre, r.condition_median,
+                  r.condition_worst, r.noise_gain, median, worst);
+      if (csv.is_open())
+        csv << args.Get("label", directions_path) << "," << directions_path << ","
+            << directions.size() << "," << o.ridge.components << "," << o.ridge.eta << ","
+            << FovDeg(g) << "," << g.sample_size_mm << "," << r.positions << ","
+            << o.ignore_near_field << "," << sigma << "," << r.condition_centre << ","
+            << r.condition_median << "," << r.condition_worst << "," << r.noise_gain << ","
+            << median << "," << worst << "\n";
+      if (!warned && (!(r.condition_worst < kConditionWarning) || r.noise_gain > 1.0)) {
+        warned = true;
+        std::fprintf(stderr,
+                     "warning: condition number up to %.3g (limit %.0f) and noise gain %.2f: %s; "
+                     "use more or better-spread directions, fewer components (--k) or a larger "
+                     "--eta\n",
+                     r.condition_worst, kConditionWarning, r.noise_gain,
+                     int(directions.size()) < o.ridge.components
+                         ? "fewer directions than components (n < k), the system is underdetermined"
+                         : "the directions do not pin down the coefficients and observation noise "
+                           "is amplified");
+      }
+    }
+  }
   return 0;
 }
 

@@ -14,5 +14,7 @@ int BasisEval(const Argv& args);
 int BasisInfo(const Argv& args);
 int MaterialConvert(const Argv& args);
 int DirectionsRandom(const Argv& args);
+int DirectionsOptimize(const Argv& args);
+int DirectionsEval(const Argv& args);
 
 }  // namespace acq::cli

@@ -12,22 +12,32 @@ int ClampIndex(int i, int n) {
   return std::clamp(i, 0, n - 1);
 }
 
+// A value this close below a bin edge (in index units) counts as on the edge: angles that went
+// through a direction-vector round trip come back 1e-15 short of values like 30 degrees that
+// sit exactly on an edge, and must land where the angle says. At most 1e-9 of a bin differs
+// from MERL's reader.
+constexpr double kEdgeSlack = 1e-9;
+int IndexOf(double x, int n) {
+  return ClampIndex(int(x + kEdgeSlack), n);
+}
+
 }  // namespace
 
 int ThetaHIndex(double theta_h) {
   if (theta_h <= 0.0) return 0;
-  return ClampIndex(int(std::sqrt(theta_h / (kPi / 2)) * kThetaH), kThetaH);
+  return IndexOf(std::sqrt(theta_h / (kPi / 2)) * kThetaH, kThetaH);
 }
 
 int ThetaDIndex(double theta_d) {
   if (theta_d <= 0.0) return 0;
-  return ClampIndex(int(theta_d / (kPi / 2) * kThetaD), kThetaD);
+  return IndexOf(theta_d / (kPi / 2) * kThetaD, kThetaD);
 }
 
 int PhiDIndex(double phi_d) {
   // Reciprocity: the BRDF is unchanged under phi_d -> phi_d + pi.
-  if (phi_d < 0.0) phi_d += kPi;
-  return ClampIndex(int(phi_d / kPi * kPhiD), kPhiD);
+  // A rounding-size negative phi_d is 0, not pi: the same slack as at the bin edges.
+  if (phi_d < -kEdgeSlack * kPi / kPhiD) phi_d += kPi;
+  return IndexOf(std::max(phi_d, 0.0) / kPi * kPhiD, kPhiD);
 }
 
 BinIndex BinOf(const RusinkiewiczAngles& a) {

@@ -3,6 +3,8 @@
 // floor(sqrt(theta_h / (pi/2)) * 90), theta_d as floor(theta_d / (pi/2) * 90), and phi_d folded
 // into [0, pi) by reciprocity and binned as floor(phi_d / pi * 180), every index clamped to the
 // grid as MERL's own reader does. Flat index: phi_d + 180 * theta_d + 180 * 90 * theta_h.
+// One deliberate difference: a value within 1e-9 of a bin below its edge counts as on the edge
+// (rounding from vector round trips must not move a direction like theta_d = 30 deg to bin 29).
 //
 // Tabulation positions ("bin centres") are the midpoints of each bin in its binning variable:
 // theta_h = ((i + 0.5) / 90)^2 * pi/2, theta_d = (j + 0.5) * pi/180, phi_d = (k + 0.5) * pi/180.
