@@ -30,7 +30,7 @@ TEST_CASE("bad direction files name file:line and the problem", "[directions]") 
                     Catch::Contains("below.tsv:4") && Catch::Contains("below the horizon"));
   const std::string bad = write("bad.tsv", "theta_h\ttheta_d\tphi_d\n0\tthirty\t0\n");
   CHECK_THROWS_WITH(ReadDirectionsTsv(bad),
-                    Catch::Contains("bad.tsv:2") && Catch::Contains("three numbers"));
+                    Catch::Contains("bad.tsv:2") && Catch::Contains("expected 3 numbers"));
   const std::string range = write("range.tsv", "theta_h\ttheta_d\tphi_d\n95\t3\t0\n");
   CHECK_THROWS_WITH(ReadDirectionsTsv(range),
                     Catch::Contains("range.tsv:2") && Catch::Contains("out of range"));

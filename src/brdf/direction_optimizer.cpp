@@ -41,9 +41,15 @@ class AllowedBins {
     for (std::size_t b = 0; b < merl::kBins; ++b)
       if (allowed_[b]) list_.push_back(std::uint32_t(b));
   }
-  bool Allowed(std::size_t b) const { return allowed_[b]; }
-  const std::vector<std::uint32_t>& List() const { return list_; }
-  std::size_t Positions() const { return positions_.size(); }
+  bool Allowed(std::size_t b) const {
+    return allowed_[b];
+  }
+  const std::vector<std::uint32_t>& List() const {
+    return list_;
+  }
+  std::size_t Positions() const {
+    return positions_.size();
+  }
   std::size_t BinAt(std::size_t b, std::size_t p) const {
     return positions_.size() > 1 ? position_bins_[b * positions_.size() + p] : b;
   }
@@ -142,12 +148,14 @@ std::vector<std::size_t> Neighbours(std::size_t bin) {
 void OptimizerOptions::Check(const BasisView& basis) const {
   if (n < 1) throw UserError("--n", "must be at least 1");
   if (EffectiveK() < 1 || EffectiveK() > basis.components)
-    throw UserError("--k", "must be in [1, " + std::to_string(basis.components) +
-                               "] (components stored in the basis)",
-                    "rebuild the basis with more --components or ask for fewer");
+    throw UserError(
+        "--k",
+        "must be in [1, " + std::to_string(basis.components) + "] (components stored in the basis)",
+        "rebuild the basis with more --components or ask for fewer");
   if (EffectiveK() > n)
-    throw UserError("--k", std::to_string(EffectiveK()) + " components cannot be determined from " +
-                               std::to_string(n) + " directions (k > n)",
+    throw UserError("--k",
+                    std::to_string(EffectiveK()) + " components cannot be determined from " +
+                        std::to_string(n) + " directions (k > n)",
                     "use --k <= --n");
   if (candidates < 1) throw UserError("--candidates", "must be at least 1");
   if (fov_grid < 2 && geometry.sample_size_mm > 0)
@@ -161,8 +169,9 @@ OptimizedDirections OptimizeDirections(const BasisView& basis, const OptimizerOp
   const int k_final = options.EffectiveK();
   const AllowedBins allowed(basis, options);
   if (allowed.List().size() < std::size_t(options.n))
-    throw UserError("constraints", "only " + std::to_string(allowed.List().size()) +
-                                       " MERL bins satisfy the constraints, fewer than --n",
+    throw UserError("constraints",
+                    "only " + std::to_string(allowed.List().size()) +
+                        " MERL bins satisfy the constraints, fewer than --n",
                     "relax --max-camera-zenith-deg, --min-separation-deg or the field of view");
   const Scorer scorer(basis, allowed, options);
   std::mt19937_64 rng(options.seed);
@@ -214,7 +223,8 @@ OptimizedDirections OptimizeDirections(const BasisView& basis, const OptimizerOp
           trial[i] = moves[m];
           move_scores[m] = scorer.Score(trial, k);
         }
-        const auto m = std::min_element(move_scores.begin(), move_scores.end()) - move_scores.begin();
+        const auto m =
+            std::min_element(move_scores.begin(), move_scores.end()) - move_scores.begin();
         if (move_scores[m].excess < score.excess ||
             (move_scores[m].excess == score.excess &&
              move_scores[m].value < score.value * (1 - 1e-9))) {

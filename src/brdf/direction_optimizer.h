@@ -44,7 +44,7 @@ struct OptimizerOptions {
   int fov_grid = 3;  // fov_grid x fov_grid positions scored (centre, edges and corners at 3)
   FovObjective fov_objective = FovObjective::kWorst;
   Score score = Score::kExpectedError;
-  double eta = 40.0;            // the ridge strength the expected error is computed for
+  double eta = 40.0;           // the ridge strength the expected error is computed for
   double max_condition = 200;  // cap for kExpectedError (the seed's 20 have 664 on our basis)
   bool progress = true;
 

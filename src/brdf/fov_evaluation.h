@@ -45,16 +45,16 @@ class HeldOutSet {
   double NoiseGain(const Eigen::MatrixXd& a) const;
 
  private:
-  const BasisView& basis_;
-  Eigen::MatrixXd gram_;                 // Q^T Q over valid bins, all stored components
+  BasisView basis_;       // a view (pointers) is held by value; the basis must outlive this
+  Eigen::MatrixXd gram_;  // Q^T Q over valid bins, all stored components
   std::vector<std::vector<float>> mapped_;  // per channel: mapped truth at every bin
-  std::vector<Eigen::VectorXd> qt_r_;    // per channel: Q^T (x - mu)
-  std::vector<double> r_r_;              // per channel: (x - mu)^T (x - mu)
+  std::vector<Eigen::VectorXd> qt_r_;       // per channel: Q^T (x - mu)
+  std::vector<double> r_r_;                 // per channel: (x - mu)^T (x - mu)
   double valid_bins_ = 0;
 };
 
 struct FovResult {
-  std::vector<double> channel_log_rmse;  // per channel, mean over positions
+  std::vector<double> channel_log_rmse;        // per channel, mean over positions
   std::vector<double> channel_worst_log_rmse;  // per channel, worst position
   double condition_centre = 0, condition_median = 0, condition_worst = 0;
   // RMS log-space error over the grid per unit of observation noise, at the centre: how much

@@ -12,7 +12,8 @@ DirectionConstraints ConstraintsFrom(const Args& args) {
   c.enabled = !args.Has("unconstrained");
   c.max_camera_zenith =
       DegToRad(args.GetDouble("max-camera-zenith-deg", RadToDeg(c.max_camera_zenith)));
-  c.max_light_zenith = DegToRad(args.GetDouble("max-light-zenith-deg", RadToDeg(c.max_light_zenith)));
+  c.max_light_zenith =
+      DegToRad(args.GetDouble("max-light-zenith-deg", RadToDeg(c.max_light_zenith)));
   c.min_separation = DegToRad(args.GetDouble("min-separation-deg", RadToDeg(c.min_separation)));
   c.Check();
   return c;
@@ -32,8 +33,8 @@ std::vector<NearFieldGeometry> GeometriesFrom(const Args& args) {
     return {base};
   }
   std::vector<NearFieldGeometry> out;
-  const std::vector<std::string> fovs = args.Has("fov-deg") ? args.All("fov-deg")
-                                                            : std::vector<std::string>{"0"};
+  const std::vector<std::string> fovs =
+      args.Has("fov-deg") ? args.All("fov-deg") : std::vector<std::string>{"0"};
   for (const std::string& f : fovs) {
     double fov = 0;
     try {

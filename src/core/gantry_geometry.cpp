@@ -14,8 +14,12 @@ Eigen::Vector3d ArmDirection(double theta, double phi) {
   return {std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta)};
 }
 
-double Zenith(const Eigen::Vector3d& v) { return std::atan2(v.head<2>().norm(), v.z()); }
-double Azimuth(const Eigen::Vector3d& v) { return std::atan2(v.y(), v.x()); }
+double Zenith(const Eigen::Vector3d& v) {
+  return std::atan2(v.head<2>().norm(), v.z());
+}
+double Azimuth(const Eigen::Vector3d& v) {
+  return std::atan2(v.y(), v.x());
+}
 
 std::string Deg(double rad) {
   std::ostringstream s;
@@ -40,8 +44,8 @@ DirectionPair DirectionsOf(const ArmAngles& arms) {
 void DirectionConstraints::Check() const {
   auto in_range = [](double v, double lo, double hi, const char* flag) {
     if (!(v >= lo && v <= hi))
-      throw UserError(flag, "must be between " + Deg(lo) + " and " + Deg(hi) + " degrees, got " +
-                                Deg(v));
+      throw UserError(flag,
+                      "must be between " + Deg(lo) + " and " + Deg(hi) + " degrees, got " + Deg(v));
   };
   in_range(max_camera_zenith, DegToRad(1), DegToRad(90), "--max-camera-zenith-deg");
   in_range(max_light_zenith, DegToRad(1), DegToRad(90), "--max-light-zenith-deg");
