@@ -26,6 +26,17 @@ expect_error() {  # name, expected substring..., -- command...
   fi
 }
 
+expect_warning() {  # name, expected substring, -- command...: exit 0 with a warning on stderr
+  local name=$1 pattern=$2; shift 3
+  local out rc
+  out=$("$@" 2>&1 >/dev/null); rc=$?
+  if [ "$rc" -eq 0 ] && grep -qF -- "$pattern" <<<"$out"; then
+    passed=$((passed + 1)); echo "ok: $name"
+  else
+    failures=$((failures + 1)); echo "FAIL: $name (exit $rc, wanted 0 and: $pattern)"; echo "$out" | tail -5
+  fi
+}
+
 # Fixtures: a good .binary from one fit, then broken copies.
 mkdir -p "$tmp/good" "$tmp/trunc" "$tmp/dims" "$tmp/nan" "$tmp/empty" "$tmp/h5"
 "$acq" material convert "$data/nbrdf/merl/brass.h5" -o "$tmp/good" >/dev/null || { echo "FAIL: convert"; exit 1; }
@@ -61,6 +72,18 @@ expect_error "not a basis file" "wrong magic" -- \
   "$acq" basis eval --basis "$data/directions/seed_directions_20.tsv" --directions "$tmp/below.tsv" "$tmp/good"
 expect_error "basis too short" "too short" -- \
   "$acq" basis eval --basis "$tmp/below.tsv" --directions "$tmp/below.tsv" "$tmp/good"
+
+printf 'theta_h\ttheta_d\tphi_d\n0\t30\t0\n10\t40\t90\n' > "$tmp/two.tsv"
+expect_warning "fewer directions than components" "n < k" -- \
+  "$acq" directions eval --basis "$tmp/one.acqb" --directions "$tmp/two.tsv" --k 3 --all-given "$tmp/good"
+expect_error "optimise with k > n" "k > n" -- \
+  "$acq" directions optimize --basis "$tmp/one.acqb" --n 2 --k 3 -o "$tmp/o.tsv"
+expect_error "unknown field-of-view objective" "--fov-objective" "'worst' or 'mean'" -- \
+  "$acq" directions optimize --basis "$tmp/one.acqb" --n 3 --fov-objective best -o "$tmp/o.tsv"
+expect_error "impossible constraints" "satisfy the constraints" -- \
+  "$acq" directions optimize --basis "$tmp/one.acqb" --n 3 --max-camera-zenith-deg 2 --min-separation-deg 170 -o "$tmp/o.tsv" --quiet
+expect_error "camera limit out of range" "--max-camera-zenith-deg" -- \
+  "$acq" directions optimize --basis "$tmp/one.acqb" --n 3 --max-camera-zenith-deg 120 -o "$tmp/o.tsv"
 
 echo "$passed passed, $failures failed"
 [ "$failures" -eq 0 ]

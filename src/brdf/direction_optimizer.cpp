@@ -20,7 +20,8 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 class AllowedBins {
  public:
   AllowedBins(const BasisView& basis, const OptimizerOptions& o) {
-    positions_ = o.geometry.Positions(o.geometry.sample_size_mm > 0 ? o.fov_grid : 1);
+    // Corner to corner: the sample's extremes are where the near field moves directions most.
+    positions_ = o.geometry.Positions(o.geometry.sample_size_mm > 0 ? o.fov_grid : 1, true);
     const std::size_t np = positions_.size();
     allowed_.assign(merl::kBins, 0);
     if (np > 1) position_bins_.assign(merl::kBins * np, 0);
@@ -105,8 +106,9 @@ class Scorer {
       SetScore s;
       s.condition = ConditionOfBins(basis_, at, k);
       s.value = expected ? ExpectedError(basis_, at, k, options_.eta) : s.condition;
-      // The cap applies to the final k; while the set grows only the objective counts.
-      if (expected && k == options_.EffectiveK() && s.condition > options_.max_condition)
+      // The cap holds at every step of the growth (for the k columns scored then), so the set
+      // never drifts where the last steps cannot bring the condition number back.
+      if (expected && s.condition > options_.max_condition)
         s.excess = std::log(s.condition / options_.max_condition);
       worst.excess = std::max(worst.excess, s.excess);
       worst.value = std::max(worst.value, s.value);

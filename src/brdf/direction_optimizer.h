@@ -41,7 +41,8 @@ struct OptimizerOptions {
   DirectionConstraints constraints;
   // Field-of-view awareness: off when geometry.sample_size_mm == 0.
   NearFieldGeometry geometry;
-  int fov_grid = 3;  // fov_grid x fov_grid positions scored (centre, edges and corners at 3)
+  int fov_grid = 3;  // fov_grid x fov_grid positions scored, corner to corner (3: centre,
+                     // edge midpoints and corners)
   FovObjective fov_objective = FovObjective::kWorst;
   Score score = Score::kExpectedError;
   double eta = 40.0;           // the ridge strength the expected error is computed for

@@ -17,6 +17,14 @@
 namespace acq::cli {
 namespace {
 
+// A CSV field, quoted when it holds a comma, quote or newline (RFC 4180).
+std::string CsvField(const std::string& s) {
+  if (s.find_first_of(",\"\n") == std::string::npos) return s;
+  std::string q = "\"";
+  for (char c : s) q += c == '"' ? std::string("\"\"") : std::string(1, c);
+  return q + "\"";
+}
+
 std::set<std::string> With(std::set<std::string> a, const std::set<std::string>& b) {
   a.insert(b.begin(), b.end());
   return a;
@@ -168,7 +176,7 @@ int DirectionsEval(const Argv& argv) {
                   g.sample_size_mm, sigma, r.positions, r.condition_centre, r.condition_median,
                   r.condition_worst, r.noise_gain, median, worst);
       if (csv.is_open())
-        csv << args.Get("label", directions_path) << "," << directions_path << ","
+        csv << CsvField(args.Get("label", directions_path)) << "," << CsvField(directions_path) << ","
             << directions.size() << "," << o.ridge.components << "," << o.ridge.eta << ","
             << FovDeg(g) << "," << g.sample_size_mm << "," << r.positions << ","
             << o.ignore_near_field << "," << sigma << "," << r.condition_centre << ","

@@ -75,13 +75,15 @@ double NearFieldGeometry::SampleSizeForFov(double fov, double camera_distance_mm
   return 2.0 * camera_distance_mm * std::tan(fov / 2);
 }
 
-std::vector<Eigen::Vector2d> NearFieldGeometry::Positions(int grid) const {
+std::vector<Eigen::Vector2d> NearFieldGeometry::Positions(int grid, bool to_edges) const {
   std::vector<Eigen::Vector2d> out;
   if (sample_size_mm <= 0 || grid <= 1) return {Eigen::Vector2d::Zero()};
+  auto coordinate = [&](int i) {
+    const double u = to_edges ? double(i) / (grid - 1) : (i + 0.5) / grid;
+    return (u - 0.5) * sample_size_mm;
+  };
   for (int j = 0; j < grid; ++j)
-    for (int i = 0; i < grid; ++i)
-      out.emplace_back(((i + 0.5) / grid - 0.5) * sample_size_mm,
-                       ((j + 0.5) / grid - 0.5) * sample_size_mm);
+    for (int i = 0; i < grid; ++i) out.emplace_back(coordinate(i), coordinate(j));
   return out;
 }
 

@@ -49,8 +49,10 @@ struct NearFieldGeometry {
 
   // The sample side that fills `fov` (full angle) of a camera at camera_distance_mm.
   static double SampleSizeForFov(double fov, double camera_distance_mm);
-  // grid x grid positions spread uniformly over the sample, centres of equal cells.
-  std::vector<Eigen::Vector2d> Positions(int grid) const;
+  // grid x grid positions spread uniformly over the sample: the centres of equal cells (the
+  // paper's uniformly sampled positions), or with `to_edges` from corner to corner, so the
+  // extremes of the field of view are among them (what a constraint check needs).
+  std::vector<Eigen::Vector2d> Positions(int grid, bool to_edges = false) const;
   // Light and camera directions seen from p_in_sample (z = 0) for arms placed at `arms`.
   DirectionPair DirectionsAt(const ArmAngles& arms, const Eigen::Vector2d& p_in_sample) const;
 };
