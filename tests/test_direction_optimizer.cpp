@@ -51,7 +51,8 @@ TEST_CASE("optimised directions satisfy every constraint, arm angles included", 
     o.score = score;
     const auto result = OptimizeDirections(SmallBasis().View(), o);
     REQUIRE(result.directions.size() == 12);
-    for (const Direction& d : result.directions) RequireWithinConstraints(ArmAnglesFor(d.angles), o.constraints);
+    for (const Direction& d : result.directions)
+      RequireWithinConstraints(ArmAnglesFor(d.angles), o.constraints);
     // And through the TSV the user gets: re-read angles give the same arm angles.
     test::TempDir dir;
     WriteDirectionsTsv(result.directions, dir / "d.tsv", "test");
@@ -101,7 +102,8 @@ TEST_CASE("impossible requests are refused with the reason", "[optimizer]") {
   o.constraints.max_camera_zenith = DegToRad(2);
   o.constraints.min_separation = DegToRad(170);
   o.progress = false;
-  CHECK_THROWS_WITH(OptimizeDirections(SmallBasis().View(), o), Catch::Contains("satisfy the constraints"));
+  CHECK_THROWS_WITH(OptimizeDirections(SmallBasis().View(), o),
+                    Catch::Contains("satisfy the constraints"));
 }
 
 TEST_CASE("closed-form field-of-view error equals the direct reconstruction", "[fov]") {
@@ -115,7 +117,8 @@ TEST_CASE("closed-form field-of-view error equals the direct reconstruction", "[
   o.ridge.components = 20;
   const FovResult fov = EvaluateOverFov(held, directions, o);
   const auto direct = EvaluateHomogeneous(basis.View(), truths[0], BinsOf(directions), o.ridge);
-  for (int c = 0; c < 3; ++c) CHECK(fov.channel_log_rmse[c] == Approx(direct[c].log_rmse).epsilon(1e-6));
+  for (int c = 0; c < 3; ++c)
+    CHECK(fov.channel_log_rmse[c] == Approx(direct[c].log_rmse).epsilon(1e-6));
   CHECK(fov.condition_centre == Approx(direct[0].condition));
 }
 

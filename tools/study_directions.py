@@ -214,7 +214,8 @@ def charts(out, rows, stab, timings, warnings):
                       "yes" if warnings.get(label) else "no"])
     tab.axis("off")
     t = tab.table(cellText=cells, colLabels=["case", "condition", "noise gain", "error",
-                                              "error, noise 0.1", "tool warns"], loc="center")
+                                              "error, noise 0.1", "tool warns"], loc="center",
+                  colWidths=[0.34, 0.12, 0.12, 0.1, 0.16, 0.12])
     t.auto_set_font_size(False)
     t.set_fontsize(8)
     t.scale(1, 1.6)

@@ -176,8 +176,8 @@ int DirectionsEval(const Argv& argv) {
                   g.sample_size_mm, sigma, r.positions, r.condition_centre, r.condition_median,
                   r.condition_worst, r.noise_gain, median, worst);
       if (csv.is_open())
-        csv << CsvField(args.Get("label", directions_path)) << "," << CsvField(directions_path) << ","
-            << directions.size() << "," << o.ridge.components << "," << o.ridge.eta << ","
+        csv << CsvField(args.Get("label", directions_path)) << "," << CsvField(directions_path)
+            << "," << directions.size() << "," << o.ridge.components << "," << o.ridge.eta << ","
             << FovDeg(g) << "," << g.sample_size_mm << "," << r.positions << ","
             << o.ignore_near_field << "," << sigma << "," << r.condition_centre << ","
             << r.condition_median << "," << r.condition_worst << "," << r.noise_gain << ","
