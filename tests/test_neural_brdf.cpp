@@ -68,3 +68,17 @@ TEST_CASE("a fit with other layer shapes is refused, naming file and dataset", "
   CHECK_THROWS_WITH(NeuralBrdf::Load(dir / "text.h5"),
                     Catch::Contains("text.h5") && Catch::Contains("not an HDF5 file"));
 }
+
+TEST_CASE("evaluation is reciprocal: swapping light and camera reads the same value", "[nbrdf]") {
+  // Swapping w_i and w_o maps phi_d to phi_d - pi; the fits only know [0, pi) (MERL's folded
+  // domain), so the evaluation must fold, as MERL's binning does.
+  const NeuralBrdf brdf = NeuralBrdf::Load(test::DataPath("nbrdf/merl/alum-bronze.h5"));
+  RusinkiewiczAngles a;
+  a.theta_h = DegToRad(12);
+  a.theta_d = DegToRad(35);
+  a.phi_d = DegToRad(70);
+  const DirectionPair d = DirectionsFromRusinkiewicz(a);
+  const auto forward = brdf.Evaluate(RusinkiewiczFromDirections(d.in, d.out));
+  const auto swapped = brdf.Evaluate(RusinkiewiczFromDirections(d.out, d.in));
+  for (int c = 0; c < 3; ++c) CHECK(swapped[c] == Approx(forward[c]).epsilon(1e-5));
+}

@@ -6,6 +6,7 @@
 #include <mutex>
 #include <vector>
 
+#include "core/angles.h"
 #include "core/error.h"
 
 namespace acq {
@@ -81,7 +82,10 @@ NeuralBrdf NeuralBrdf::Load(const std::string& path) {
 }
 
 std::array<float, NeuralBrdf::kInputs> NeuralBrdf::Input(const RusinkiewiczAngles& a) {
-  const Eigen::Vector3d d = DifferenceVector(a.theta_d, a.phi_d);
+  // The fits were trained on MERL's tables, whose phi_d lies in [0, pi): fold by reciprocity
+  // (phi_d -> phi_d + pi) as MERL's binning does, rather than extrapolate the network.
+  const double phi_d = a.phi_d < 0 ? a.phi_d + kPi : a.phi_d;
+  const Eigen::Vector3d d = DifferenceVector(a.theta_d, phi_d);
   return {float(std::sin(a.theta_h)),
           0.0f,
           float(std::cos(a.theta_h)),

@@ -25,7 +25,8 @@ class NeuralBrdf {
 
   static std::array<float, kInputs> Input(const RusinkiewiczAngles& a);
 
-  // One evaluation; RGB in 1/sr. Below-horizon configurations are not meaningful.
+  // One evaluation; RGB in 1/sr. phi_d < 0 is folded to phi_d + pi (reciprocity), the domain
+  // the fits were trained on. Below-horizon configurations are not meaningful.
   std::array<double, 3> Evaluate(const RusinkiewiczAngles& a) const;
 
   // Batch evaluation: inputs (B x 6) -> outputs (B x 3), RGB in 1/sr.

@@ -1,0 +1,79 @@
+#include "sim/synthetic_svbrdf.h"
+
+#include <cmath>
+#include <limits>
+#include <random>
+
+namespace acq::sim {
+
+Eigen::Vector2d SyntheticSvbrdf::PointOf(int pixel) const {
+  const int x = pixel % width, y = pixel / width;
+  return {((x + 0.5) / width - 0.5) * sample_size_mm, ((y + 0.5) / height - 0.5) * sample_size_mm};
+}
+
+SyntheticSvbrdf MakeCardLayout(int width, int height, double sample_size_mm, int materials,
+                               std::uint64_t seed) {
+  SyntheticSvbrdf s;
+  s.width = width;
+  s.height = height;
+  s.sample_size_mm = sample_size_mm;
+  s.label.assign(std::size_t(width) * height, 0);
+  std::mt19937_64 rng(seed);
+  auto fill = [&](int x0, int y0, int x1, int y1, int m) {
+    for (int y = std::max(y0, 0); y < std::min(y1, height); ++y)
+      for (int x = std::max(x0, 0); x < std::min(x1, width); ++x) s.label[y * width + x] = std::uint8_t(m);
+  };
+  if (materials > 1) fill(width / 10, height / 10, width / 2, height / 2, 1);
+  if (materials > 2) fill(width / 2, height / 2, 9 * width / 10, 8 * height / 10, 2);
+  // "Text": rows of short bars of varied width (down to one pixel) in the remaining materials.
+  std::uniform_int_distribution<int> bar(1, std::max(1, width / 40));
+  const int first_text = std::min(3, materials - 1);
+  int m = first_text;
+  for (int line = 0; line < 3; ++line) {
+    const int y0 = height * (55 + 12 * line) / 100;
+    for (int x = width / 12; x < width / 2; x += bar(rng) + 2) {
+      const int w = bar(rng);
+      fill(x, y0, x + w, y0 + std::max(2, height / 16), m);
+      if (++m >= materials) m = first_text;
+    }
+  }
+  return s;
+}
+
+std::array<double, 3> GroundTruth::Value(const DirectionPair& d) const {
+  if (table) return table->Lookup(d.in, d.out);
+  return network->Evaluate(RusinkiewiczFromDirections(d.in, d.out));
+}
+
+PixelObservations SyntheticObservations(const SyntheticSvbrdf& scene,
+                                        const std::vector<GroundTruth>& materials,
+                                        const std::vector<ArmAngles>& views,
+                                        const ObservationOptions& options, int first, int count) {
+  NearFieldGeometry g = options.geometry;
+  g.sample_size_mm = scene.sample_size_mm;
+  PixelObservations obs;
+  obs.Resize(count, int(views.size()));
+#pragma omp parallel for schedule(dynamic, 64)
+  for (int p = 0; p < count; ++p) {
+    const int pixel = first + p;
+    const Eigen::Vector2d point = scene.PointOf(pixel);
+    // Noise is seeded per pixel so tiles and threads give the same answer.
+    std::mt19937_64 rng(options.seed * 0x9E3779B97F4A7C15ull + std::uint64_t(pixel));
+    std::normal_distribution<double> noise(0.0, 1.0);
+    for (std::size_t v = 0; v < views.size(); ++v) {
+      const DirectionPair truth = g.DirectionsAt(views[v], point);
+      const std::size_t i = obs.At(p, int(v));
+      const DirectionPair label = options.centre_directions ? DirectionsOf(views[v]) : truth;
+      obs.light[i] = label.in.cast<float>();
+      obs.camera[i] = label.out.cast<float>();
+      if (!AboveHorizon(truth)) continue;  // stays NaN: missing
+      const auto rgb = materials[scene.label[pixel]].Value(truth);
+      for (int c = 0; c < 3; ++c)
+        obs.rgb[3 * i + c] =
+            float(std::max(rgb[c], 0.0) * (1.0 + options.noise_sigma * noise(rng)));
+    }
+  }
+  return obs;
+}
+
+}  // namespace acq::sim

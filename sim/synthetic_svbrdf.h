@@ -1,0 +1,57 @@
+// Synthetic SVBRDF scenes and the observations a capture of them would give, straight from the
+// ground truth (no camera simulation): the inputs the reconstruction is tested and benchmarked
+// on until real correspondence maps exist.
+//
+// The reference view looks straight down at the sample centre; reference pixel (x, y) is the
+// sample point at ((x + 0.5) / width - 0.5) * size, ((y + 0.5) / height - 0.5) * size (x along
+// the sample frame's x, y along its y). Each view is a pair of arm poses at the near-field
+// geometry's distances; a pixel's light and view directions are those from its own point.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "brdf/neural_brdf.h"
+#include "brdf/pixel_solver.h"
+#include "core/gantry_geometry.h"
+
+namespace acq::sim {
+
+struct SyntheticSvbrdf {
+  int width = 0, height = 0;
+  double sample_size_mm = 0;        // side of the square sample the reference view covers
+  std::vector<std::uint8_t> label;  // material index per pixel, row-major
+  Eigen::Vector2d PointOf(int pixel) const;
+};
+
+// A printed card: a background material, two rectangles with sharp edges, and strokes of "text"
+// (thin bars, one pixel and up) in the remaining materials. Deterministic for a seed.
+SyntheticSvbrdf MakeCardLayout(int width, int height, double sample_size_mm, int materials,
+                               std::uint64_t seed);
+
+// A ground-truth material: the neural fit evaluated at the exact directions (continuous), or its
+// MERL table read at the nearest bin (what the basis and the closed-form evaluator see).
+struct GroundTruth {
+  const NeuralBrdf* network = nullptr;
+  const MerlBrdf* table = nullptr;
+  std::array<double, 3> Value(const DirectionPair& d) const;
+};
+
+struct ObservationOptions {
+  NearFieldGeometry geometry;  // distances; sample_size_mm is taken from the scene
+  // Attach the centre's directions to every pixel (the values still come from its true ones):
+  // what a reconstruction that ignores the near field does.
+  bool centre_directions = false;
+  double noise_sigma = 0;  // multiplicative Gaussian noise on the BRDF values (relative)
+  std::uint64_t seed = 1;
+};
+
+// Observations of pixels [first, first + count) in every view: each material's value at the
+// pixel's true directions; views where a pixel sees below the horizon are missing.
+PixelObservations SyntheticObservations(const SyntheticSvbrdf& scene,
+                                        const std::vector<GroundTruth>& materials,
+                                        const std::vector<ArmAngles>& views,
+                                        const ObservationOptions& options, int first, int count);
+
+}  // namespace acq::sim

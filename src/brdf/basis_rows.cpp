@@ -1,0 +1,67 @@
+#include "brdf/basis_rows.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/angles.h"
+
+namespace acq {
+namespace {
+
+// Continuous index coordinates, bin centres at integers.
+struct GridCoordinate {
+  double h, d, p;
+};
+
+GridCoordinate CoordinateOf(const RusinkiewiczAngles& a) {
+  double phi = a.phi_d < 0 ? a.phi_d + kPi : a.phi_d;
+  return {std::sqrt(std::max(a.theta_h, 0.0) / (kPi / 2)) * merl::kThetaH - 0.5,
+          a.theta_d / (kPi / 2) * merl::kThetaD - 0.5, phi / kPi * merl::kPhiD - 0.5};
+}
+
+}  // namespace
+
+bool SampleBasis(const BasisView& basis, const Eigen::Vector3d& in, const Eigen::Vector3d& out,
+                 int k, RowLookup lookup, float* row, BasisSample* sample) {
+  if (!(in.z() > 0 && out.z() > 0)) return false;
+  const RusinkiewiczAngles a = RusinkiewiczFromDirections(in, out);
+  sample->cos_weight = float(merl::CosWeight({in, out}));
+  if (lookup == RowLookup::kNearest) {
+    const std::size_t bin = merl::BinOf(a).Flat();
+    if (!basis.valid[bin]) return false;
+    const float* q = basis.Row(bin);
+    for (int c = 0; c < k; ++c) row[c] = q[c];
+    sample->mean = basis.mean[bin];
+    sample->ref = basis.ref[bin];
+    return true;
+  }
+  const GridCoordinate g = CoordinateOf(a);
+  const int h0 = int(std::floor(g.h)), d0 = int(std::floor(g.d)), p0 = int(std::floor(g.p));
+  const double fh = g.h - h0, fd = g.d - d0, fp = g.p - p0;
+  for (int c = 0; c < k; ++c) row[c] = 0;
+  double total = 0, mean = 0, ref = 0;
+  for (int corner = 0; corner < 8; ++corner) {
+    const int dh = corner & 1, dd = (corner >> 1) & 1, dp = (corner >> 2) & 1;
+    merl::BinIndex b;
+    // Beyond the first or last bin centre, clamp (the value is held constant to the edge).
+    b.theta_h = std::clamp(h0 + dh, 0, merl::kThetaH - 1);
+    b.theta_d = std::clamp(d0 + dd, 0, merl::kThetaD - 1);
+    b.phi_d = ((p0 + dp) % merl::kPhiD + merl::kPhiD) % merl::kPhiD;  // periodic
+    const double w = (dh ? fh : 1 - fh) * (dd ? fd : 1 - fd) * (dp ? fp : 1 - fp);
+    const std::size_t bin = b.Flat();
+    if (w <= 0 || !basis.valid[bin]) continue;
+    const float* q = basis.Row(bin);
+    for (int c = 0; c < k; ++c) row[c] += float(w) * q[c];
+    mean += w * basis.mean[bin];
+    ref += w * basis.ref[bin];
+    total += w;
+  }
+  if (total <= 0) return false;
+  const float inv = float(1.0 / total);
+  for (int c = 0; c < k; ++c) row[c] *= inv;
+  sample->mean = float(mean / total);
+  sample->ref = float(ref / total);
+  return true;
+}
+
+}  // namespace acq

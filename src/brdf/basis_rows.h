@@ -1,0 +1,26 @@
+// The basis at an arbitrary light/view pair (not only at bin centres): what a pixel whose true
+// directions fall between bins reconstructs with. Nearest bin (MERL's own binning) or trilinear
+// interpolation between the 8 surrounding bin centres, in the grid's index coordinates
+// (sqrt-spaced theta_h; phi_d periodic over [0, pi) by reciprocity). Masked bins take no part;
+// the weights of the valid ones are renormalised.
+#pragma once
+
+#include <Eigen/Core>
+
+#include "brdf/basis.h"
+
+namespace acq {
+
+enum class RowLookup { kNearest, kInterpolated };
+
+struct BasisSample {
+  float mean = 0, ref = 0;  // mu and rho_ref at the directions
+  float cos_weight = 0;     // merl::CosWeight of the true directions (not of a bin centre)
+};
+
+// Writes the first k entries of the row at the directions (sample frame, unit vectors, both
+// above the horizon) into `row`. Returns false when no valid bin contributes.
+bool SampleBasis(const BasisView& basis, const Eigen::Vector3d& in, const Eigen::Vector3d& out,
+                 int k, RowLookup lookup, float* row, BasisSample* sample);
+
+}  // namespace acq

@@ -1,0 +1,58 @@
+// Per-pixel SVBRDF reconstruction (Yu et al. Sec. 3.1): every reference pixel is solved on its
+// own, with the basis rows, mean, reference and cos weight at the light and view directions that
+// pixel really saw in each view (the near-field effect), and a ridge solve shared by its three
+// colour channels. Observations are dropped per pixel, never per view: a saturated highlight or
+// an occluded view costs only the pixels it touches.
+#pragma once
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <vector>
+
+#include "brdf/basis.h"
+#include "brdf/basis_rows.h"
+
+namespace acq {
+
+// A tile of pixels x views, pixel-major. Directions in the sample frame, unit, pointing away
+// from the surface. Values are BRDF values (1/sr) per channel; NaN marks a missing observation
+// (saturated, occluded, out of frame).
+struct PixelObservations {
+  int pixels = 0, views = 0;
+  std::vector<Eigen::Vector3f> light, camera;  // pixels * views
+  std::vector<float> rgb;                      // pixels * views * 3
+
+  void Resize(int pixels, int views);
+  std::size_t At(int pixel, int view) const { return std::size_t(pixel) * views + view; }
+};
+
+struct PixelSolveOptions {
+  int components = 20;  // k
+  double eta = 40.0;
+  RowLookup lookup = RowLookup::kNearest;
+  int min_observations = 0;  // fewer and the pixel is invalid; 0 means k / 2
+  // Pixels whose sampled rows are worse conditioned than this are still solved but not valid:
+  // the ridge keeps them finite, not trustworthy.
+  double max_condition = 1e4;
+  void Check(const BasisView& basis) const;  // throws UserError
+  int MinObservations() const { return min_observations > 0 ? min_observations : (components + 1) / 2; }
+};
+
+// Per-pixel results, pixel-major; coefficients are k per channel, R then G then B.
+struct PixelSolution {
+  int components = 0;
+  std::vector<float> coefficients;         // pixels * 3 * k
+  std::vector<std::uint8_t> valid;         // 1 when trustworthy
+  std::vector<std::uint16_t> observations;  // views used
+  std::vector<float> condition;            // of the pixel's sampled rows (inf when n < k)
+  std::vector<float> residual;             // RMS log-space misfit at the observations
+
+  void Resize(int pixels, int k);
+};
+
+// Solves every pixel of the tile (OpenMP across pixels). Never writes NaN: a pixel with no
+// usable observation gets zero coefficients (the mean BRDF) and valid = 0.
+void SolvePixels(const BasisView& basis, const PixelObservations& observations,
+                 const PixelSolveOptions& options, PixelSolution* solution, int first_pixel = 0);
+
+}  // namespace acq
