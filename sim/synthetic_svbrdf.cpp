@@ -21,7 +21,8 @@ SyntheticSvbrdf MakeCardLayout(int width, int height, double sample_size_mm, int
   std::mt19937_64 rng(seed);
   auto fill = [&](int x0, int y0, int x1, int y1, int m) {
     for (int y = std::max(y0, 0); y < std::min(y1, height); ++y)
-      for (int x = std::max(x0, 0); x < std::min(x1, width); ++x) s.label[y * width + x] = std::uint8_t(m);
+      for (int x = std::max(x0, 0); x < std::min(x1, width); ++x)
+        s.label[y * width + x] = std::uint8_t(m);
   };
   if (materials > 1) fill(width / 10, height / 10, width / 2, height / 2, 1);
   if (materials > 2) fill(width / 2, height / 2, 9 * width / 10, 8 * height / 10, 2);
@@ -74,6 +75,14 @@ PixelObservations SyntheticObservations(const SyntheticSvbrdf& scene,
     }
   }
   return obs;
+}
+
+std::string SyntheticSource::Describe() const {
+  return "synthetic card " + std::to_string(scene_.width) + "x" + std::to_string(scene_.height) +
+         ", " + std::to_string(materials_.size()) + " materials, " + std::to_string(views_.size()) +
+         " views, sample " + std::to_string(scene_.sample_size_mm) + " mm, noise " +
+         std::to_string(options_.noise_sigma) +
+         (options_.centre_directions ? ", centre directions" : "");
 }
 
 }  // namespace acq::sim

@@ -54,4 +54,30 @@ PixelObservations SyntheticObservations(const SyntheticSvbrdf& scene,
                                         const std::vector<ArmAngles>& views,
                                         const ObservationOptions& options, int first, int count);
 
+// A synthetic scene as an observation source for the reconstruction job.
+class SyntheticSource : public ObservationSource {
+ public:
+  SyntheticSource(SyntheticSvbrdf scene, std::vector<GroundTruth> materials,
+                  std::vector<ArmAngles> views, ObservationOptions options)
+      : scene_(std::move(scene)),
+        materials_(std::move(materials)),
+        views_(std::move(views)),
+        options_(options) {}
+  int Width() const override { return scene_.width; }
+  int Height() const override { return scene_.height; }
+  double PixelSizeMm() const override { return scene_.sample_size_mm / scene_.width; }
+  std::string Describe() const override;
+  PixelObservations Rows(int y0, int rows) override {
+    return SyntheticObservations(scene_, materials_, views_, options_, y0 * scene_.width,
+                                 rows * scene_.width);
+  }
+  const SyntheticSvbrdf& scene() const { return scene_; }
+
+ private:
+  SyntheticSvbrdf scene_;
+  std::vector<GroundTruth> materials_;
+  std::vector<ArmAngles> views_;
+  ObservationOptions options_;
+};
+
 }  // namespace acq::sim

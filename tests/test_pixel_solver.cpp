@@ -1,6 +1,7 @@
 #include <catch2/catch.hpp>
 #include <cmath>
 
+#include "acq/reconstruction_job.h"
 #include "brdf/direction_optimizer.h"
 #include "brdf/evaluation.h"
 #include "brdf/fov_evaluation.h"
@@ -103,7 +104,8 @@ TEST_CASE("a vanishing field of view reproduces the homogeneous reconstruction",
   RidgeOptions ridge;
   for (std::size_t p = 0; p < scene.label.size(); ++p) {
     const int m = scene.label[p];
-    const auto homogeneous = EvaluateHomogeneous(d.basis.View(), d.tables[m], BinsOf(centres), ridge);
+    const auto homogeneous =
+        EvaluateHomogeneous(d.basis.View(), d.tables[m], BinsOf(centres), ridge);
     for (int c = 0; c < 3; ++c) {
       const Eigen::Map<const Eigen::VectorXf> coeff(&s.coefficients[(p * 3 + c) * 20], 20);
       REQUIRE(truth.LogRmse(m * 3 + c, coeff.cast<double>()) ==
@@ -159,8 +161,9 @@ TEST_CASE("a printed card at 10 degrees: ignoring the near field is clearly wors
   const double interp = MedianPixelError(scene, Solve(scene, d.continuous, o, interpolated), truth);
   o.centre_directions = true;
   const double ignoring = MedianPixelError(scene, Solve(scene, d.continuous, o, nearest), truth);
-  WARN("card at 10 deg, median over pixels: per-pixel rows " << per_pixel << " (interpolated "
-       << interp << "), one set of rows for all pixels " << ignoring);
+  WARN("card at 10 deg, median over pixels: per-pixel rows "
+       << per_pixel << " (interpolated " << interp << "), one set of rows for all pixels "
+       << ignoring);
   // Ignoring the near field mislabels every off-centre observation by up to 5 degrees; the
   // study's seed-direction figures put the cost at roughly 2x, so 1.3x is a safe floor.
   CHECK(ignoring > 1.3 * per_pixel);
@@ -207,8 +210,35 @@ TEST_CASE("interpolated rows: at bin centres they equal the nearest rows", "[pix
     const DirectionPair d = DirectionsFromRusinkiewicz(merl::BinCentre(merl::BinFromFlat(b)));
     BasisSample sn, si;
     REQUIRE(SampleBasis(basis, d.in, d.out, 20, RowLookup::kNearest, nearest.data(), &sn));
-    REQUIRE(SampleBasis(basis, d.in, d.out, 20, RowLookup::kInterpolated, interpolated.data(), &si));
-    for (int c = 0; c < 20; ++c) REQUIRE(interpolated[c] == Approx(nearest[c]).margin(1e-3 * std::abs(nearest[0]) + 1e-6));
+    REQUIRE(
+        SampleBasis(basis, d.in, d.out, 20, RowLookup::kInterpolated, interpolated.data(), &si));
+    for (int c = 0; c < 20; ++c)
+      REQUIRE(interpolated[c] == Approx(nearest[c]).margin(1e-3 * std::abs(nearest[0]) + 1e-6));
     REQUIRE(si.mean == Approx(sn.mean).margin(1e-4));
   }
+}
+
+TEST_CASE("the reconstruction job streams bands into a map that equals a direct solve",
+          "[pixel][map]") {
+  const Fixture& d = Data();
+  sim::SyntheticSource source(sim::MakeCardLayout(20, 13, 40.0, 4, 2), d.continuous, d.views, {});
+  ReconstructionOptions r;
+  r.band_rows = 5;  // 13 rows: bands of 5, 5, 3
+  r.progress = false;
+  test::TempDir dir;
+  const ReconstructionReport report = Reconstruct(d.basis.View(), source, r, {}, dir / "m.exr");
+  CHECK(report.pixels == 260);
+  CHECK(report.valid + report.no_observation + report.too_few_observations +
+            report.poorly_conditioned ==
+        260);
+  const SvbrdfMap map = ReadSvbrdfMap(dir / "m.exr");
+  CHECK(map.info.pixel_size_mm == Approx(2.0));
+  const PixelSolution direct = Solve(source.scene(), d.continuous, {}, PixelSolveOptions{});
+  for (int y = 0; y < 13; ++y)
+    for (int x = 0; x < 20; ++x) {
+      const int p = y * 20 + x;
+      REQUIRE(map.Plane("valid", x, y) == direct.valid[p]);
+      const std::vector<float> c = map.Coefficients(x, y, 2);
+      for (int j = 0; j < 20; ++j) REQUIRE(c[j] == direct.coefficients[(p * 3 + 2) * 20 + j]);
+    }
 }

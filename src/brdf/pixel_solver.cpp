@@ -72,13 +72,12 @@ void SolvePixels(const BasisView& basis, const PixelObservations& obs,
       // Eigenvalues give the condition number; the solve reuses the factorisation.
       Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(normal);
       const Eigen::VectorXd ev = eig.eigenvalues();
-      const double condition =
-          n < k || !(ev(0) > 0) ? std::numeric_limits<double>::infinity()
-                                : std::sqrt(ev(k - 1) / ev(0));
+      const double condition = n < k || !(ev(0) > 0) ? std::numeric_limits<double>::infinity()
+                                                     : std::sqrt(ev(k - 1) / ev(0));
       const Eigen::VectorXd inverse = (ev.array() + options.eta).inverse();
-      const Eigen::MatrixXd c = eig.eigenvectors() *
-                                (inverse.asDiagonal() * (eig.eigenvectors().transpose() *
-                                                         (q.transpose() * y.topRows(n))));
+      const Eigen::MatrixXd c =
+          eig.eigenvectors() * (inverse.asDiagonal() *
+                                (eig.eigenvectors().transpose() * (q.transpose() * y.topRows(n))));
       double misfit = (q * c - y.topRows(n)).squaredNorm();
       bool finite = c.allFinite() && std::isfinite(misfit);
       for (int ch = 0; ch < 3; ++ch)

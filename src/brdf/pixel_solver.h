@@ -7,6 +7,7 @@
 
 #include <Eigen/Core>
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "brdf/basis.h"
@@ -26,6 +27,19 @@ struct PixelObservations {
   std::size_t At(int pixel, int view) const { return std::size_t(pixel) * views + view; }
 };
 
+// Where a reconstruction's observations come from, one band of reference-view rows at a time:
+// correspondence maps and HDR frames of a session, or a synthetic scene.
+class ObservationSource {
+ public:
+  virtual ~ObservationSource() = default;
+  virtual int Width() const = 0;
+  virtual int Height() const = 0;
+  virtual double PixelSizeMm() const = 0;
+  virtual std::string Describe() const = 0;
+  // Observations of rows [y0, y0 + rows), pixel (x, y) at index (y - y0) * Width() + x.
+  virtual PixelObservations Rows(int y0, int rows) = 0;
+};
+
 struct PixelSolveOptions {
   int components = 20;  // k
   double eta = 40.0;
@@ -35,17 +49,19 @@ struct PixelSolveOptions {
   // the ridge keeps them finite, not trustworthy.
   double max_condition = 1e4;
   void Check(const BasisView& basis) const;  // throws UserError
-  int MinObservations() const { return min_observations > 0 ? min_observations : (components + 1) / 2; }
+  int MinObservations() const {
+    return min_observations > 0 ? min_observations : (components + 1) / 2;
+  }
 };
 
 // Per-pixel results, pixel-major; coefficients are k per channel, R then G then B.
 struct PixelSolution {
   int components = 0;
-  std::vector<float> coefficients;         // pixels * 3 * k
-  std::vector<std::uint8_t> valid;         // 1 when trustworthy
+  std::vector<float> coefficients;          // pixels * 3 * k
+  std::vector<std::uint8_t> valid;          // 1 when trustworthy
   std::vector<std::uint16_t> observations;  // views used
-  std::vector<float> condition;            // of the pixel's sampled rows (inf when n < k)
-  std::vector<float> residual;             // RMS log-space misfit at the observations
+  std::vector<float> condition;             // of the pixel's sampled rows (inf when n < k)
+  std::vector<float> residual;              // RMS log-space misfit at the observations
 
   void Resize(int pixels, int k);
 };

@@ -56,6 +56,16 @@ const std::map<std::string, Command>& Commands() {
         "    [--noise-trials 8] [--csv FILE --label L]\n"
         "  Condition numbers and held-out log-space error over a field of view, each position\n"
         "  with its own true directions and rows (the near-field effect)."}},
+      {"reconstruct synthetic",
+       {ReconstructSynthetic,
+        "acq reconstruct synthetic --basis BASIS --directions TSV -o MAP.exr [--size 256x256]\n"
+        "    [--materials NAME,...] [--materials-dir data/nbrdf/merl] [--fov-deg 4]\n"
+        "    [--camera-distance-mm 1000] [--light-distance-mm 1000] [--k 20] [--eta 40]\n"
+        "    [--lookup nearest|interpolated] [--band-rows 64] [--noise 0] [--seed 1]\n"
+        "    [--ignore-near-field] [--truth-tables] [--score]\n"
+        "  Reconstructs a synthetic printed card from observations made straight from the\n"
+        "  ground truth, per pixel, into an SVBRDF map (docs/svbrdf-map.md); --score compares\n"
+        "  every pixel with its true material."}},
   };
   return commands;
 }

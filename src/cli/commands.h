@@ -16,5 +16,6 @@ int MaterialConvert(const Argv& args);
 int DirectionsRandom(const Argv& args);
 int DirectionsOptimize(const Argv& args);
 int DirectionsEval(const Argv& args);
+int ReconstructSynthetic(const Argv& args);
 
 }  // namespace acq::cli

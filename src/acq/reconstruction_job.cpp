@@ -1,0 +1,83 @@
+#include "acq/reconstruction_job.h"
+
+#include <chrono>
+#include <cstdio>
+
+#include "core/error.h"
+#include "core/progress.h"
+
+namespace acq {
+
+void ReconstructionOptions::Check(const BasisView& basis) const {
+  solve.Check(basis);
+  if (band_rows < 1) throw UserError("--band-rows", "must be at least 1");
+}
+
+void ReconstructionReport::Print() const {
+  std::printf("pixels: %ld, valid %ld (%.1f%%)\n", pixels, valid,
+              pixels ? 100.0 * double(valid) / double(pixels) : 0.0);
+  std::printf("  not valid: %ld with no usable observation, %ld with too few observations, %ld "
+              "poorly conditioned\n",
+              no_observation, too_few_observations, poorly_conditioned);
+  std::printf("time: %.2f s solving, %.2f s in all: %.3f megapixels/s\n", solve_seconds,
+              total_seconds, total_seconds > 0 ? double(pixels) / total_seconds / 1e6 : 0.0);
+}
+
+ReconstructionReport Reconstruct(const BasisView& basis, ObservationSource& source,
+                                 const ReconstructionOptions& options, SvbrdfMapInfo info,
+                                 const std::string& map_path) {
+  using Clock = std::chrono::steady_clock;
+  const auto start = Clock::now();
+  options.Check(basis);
+  const int w = source.Width(), h = source.Height(), k = options.solve.components;
+  info.width = w;
+  info.height = h;
+  info.components = k;
+  info.eta = options.solve.eta;
+  info.lookup = options.solve.lookup == RowLookup::kNearest ? "nearest" : "interpolated";
+  info.pixel_size_mm = source.PixelSizeMm();
+  info.source = source.Describe();
+  SvbrdfMapWriter writer(map_path, info);
+  const int planes = 3 * k + 4;
+  std::vector<std::vector<float>> band(planes);
+  ReconstructionReport report;
+  Progress progress("reconstruct: rows", std::size_t(h), options.progress);
+  for (int y0 = 0; y0 < h; y0 += options.band_rows) {
+    const int rows = std::min(options.band_rows, h - y0);
+    const PixelObservations obs = source.Rows(y0, rows);
+    PixelSolution solution;
+    solution.Resize(obs.pixels, k);
+    const auto solve_start = Clock::now();
+    SolvePixels(basis, obs, options.solve, &solution);
+    report.solve_seconds += std::chrono::duration<double>(Clock::now() - solve_start).count();
+    // Pixel-major solution -> one plane per channel for the map.
+    const std::size_t n = std::size_t(obs.pixels);
+    for (auto& p : band) p.resize(n);
+    for (std::size_t p = 0; p < n; ++p) {
+      for (int c = 0; c < 3 * k; ++c) band[c][p] = solution.coefficients[p * 3 * k + c];
+      band[3 * k][p] = solution.valid[p];
+      band[3 * k + 1][p] = solution.observations[p];
+      band[3 * k + 2][p] = solution.condition[p];
+      band[3 * k + 3][p] = solution.residual[p];
+      ++report.pixels;
+      if (solution.valid[p]) {
+        ++report.valid;
+      } else if (solution.observations[p] == 0) {
+        ++report.no_observation;
+      } else if (solution.observations[p] < options.solve.MinObservations()) {
+        ++report.too_few_observations;
+      } else {
+        ++report.poorly_conditioned;
+      }
+    }
+    std::vector<const float*> pointers;
+    for (const auto& p : band) pointers.push_back(p.data());
+    writer.WriteRows(rows, pointers);
+    progress.Tick(std::size_t(rows));
+  }
+  writer.Finish();
+  report.total_seconds = std::chrono::duration<double>(Clock::now() - start).count();
+  return report;
+}
+
+}  // namespace acq

@@ -1,0 +1,35 @@
+// The reconstruction job: streams an observation source band by band through the per-pixel
+// solver into an SVBRDF map, so memory stays bounded by the band, not the image, and reports
+// what it found (DESIGN.md data flow: "per-pixel reconstruction -> SVBRDF maps").
+#pragma once
+
+#include <string>
+
+#include "brdf/pixel_solver.h"
+#include "io/svbrdf_map.h"
+
+namespace acq {
+
+struct ReconstructionOptions {
+  PixelSolveOptions solve;
+  int band_rows = 64;  // rows solved and written at a time
+  bool progress = true;
+  void Check(const BasisView& basis) const;
+};
+
+struct ReconstructionReport {
+  long pixels = 0, valid = 0;
+  long no_observation = 0;      // no usable view at all
+  long too_few_observations = 0;  // fewer than PixelSolveOptions::MinObservations()
+  long poorly_conditioned = 0;  // enough views, condition number over the limit
+  double solve_seconds = 0, total_seconds = 0;
+  void Print() const;
+};
+
+// `map_info` supplies the descriptive fields (basis path and checksum, camera model); the
+// dimensions, settings and pixel size are filled in from the source and options.
+ReconstructionReport Reconstruct(const BasisView& basis, ObservationSource& source,
+                                 const ReconstructionOptions& options, SvbrdfMapInfo map_info,
+                                 const std::string& map_path);
+
+}  // namespace acq

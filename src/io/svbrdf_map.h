@@ -1,0 +1,59 @@
+// The SVBRDF map: one OpenEXR file per reconstruction, pixels of the reference view
+// (docs/svbrdf-map.md). Channels, all 32-bit float: "R.c00".."R.cNN", "G.c..", "B.c.." (the k
+// basis coefficients per colour channel), "valid" (1 trustworthy, 0 not), "observations" (views
+// used), "condition" (of the pixel's sampled rows; inf when fewer views than components),
+// "residual" (RMS log-space misfit at the observations). Header attributes name the basis and its
+// checksum, the solve settings, the reference camera model and the pixel size on the sample.
+//
+// Written band by band in increasing y, so a 16-megapixel map never has to be in memory whole;
+// to a temporary name, renamed when complete, so a crash never leaves a truncated map.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace acq {
+
+struct SvbrdfMapInfo {
+  int width = 0, height = 0;
+  int components = 0;             // k
+  double eta = 0;                 // ridge strength used
+  std::string lookup;             // "nearest" or "interpolated"
+  std::string basis;              // path of the basis file
+  std::uint32_t basis_crc32 = 0;  // its checksum (docs/basis-format.md)
+  std::string camera_model;       // reference camera's .cameramodel, or "none (synthetic)"
+  double pixel_size_mm = 0;       // on the sample
+  std::string source;             // what the observations came from
+};
+
+// Channel names in file order: 3 k coefficient channels, then the four per-pixel diagnostics.
+std::vector<std::string> SvbrdfChannelNames(int components);
+
+class SvbrdfMapWriter {
+ public:
+  SvbrdfMapWriter(const std::string& path, const SvbrdfMapInfo& info);
+  ~SvbrdfMapWriter();  // without Finish(), the partial file is removed
+  // The next `rows` rows: one plane of rows * width floats per channel, in SvbrdfChannelNames
+  // order.
+  void WriteRows(int rows, const std::vector<const float*>& planes);
+  void Finish();  // all rows written: close and move into place
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+struct SvbrdfMap {
+  SvbrdfMapInfo info;
+  std::vector<std::vector<float>> planes;  // SvbrdfChannelNames order, width * height each
+  // Coefficients of pixel (x, y), channel c (0..2): k values.
+  std::vector<float> Coefficients(int x, int y, int channel) const;
+  float Plane(const std::string& name, int x, int y) const;
+};
+
+// Throws UserError naming the file when it is not an SVBRDF map or is incomplete.
+SvbrdfMap ReadSvbrdfMap(const std::string& path);
+
+}  // namespace acq

@@ -1,0 +1,69 @@
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <filesystem>
+#include <limits>
+
+#include "io/svbrdf_map.h"
+#include "test_helpers.h"
+
+using namespace acq;
+
+TEST_CASE("SVBRDF map: written band by band, read back identical, with its metadata", "[map]") {
+  test::TempDir dir;
+  SvbrdfMapInfo info;
+  info.width = 7;
+  info.height = 5;
+  info.components = 3;
+  info.eta = 40;
+  info.lookup = "nearest";
+  info.basis = "b.acqb";
+  info.basis_crc32 = 0xdeadbeef;
+  info.camera_model = "ref.cameramodel";
+  info.pixel_size_mm = 0.25;
+  info.source = "test";
+  const std::vector<std::string> names = SvbrdfChannelNames(3);
+  REQUIRE(names.size() == 13);
+  CHECK(names[0] == "R.c00");
+  CHECK(names[8] == "B.c02");
+  CHECK(names[12] == "residual");
+  auto value = [](int c, int x, int y) { return float(c * 1000 + y * 10 + x) + 0.5f; };
+  {
+    SvbrdfMapWriter w(dir / "m.exr", info);
+    for (int y0 : {0, 2, 4}) {  // bands of 2, 2 and 1 rows
+      const int rows = std::min(2, 5 - y0);
+      std::vector<std::vector<float>> planes(13, std::vector<float>(rows * 7));
+      for (int c = 0; c < 13; ++c)
+        for (int y = 0; y < rows; ++y)
+          for (int x = 0; x < 7; ++x) planes[c][y * 7 + x] = value(c, x, y0 + y);
+      planes[11][0] = std::numeric_limits<float>::infinity();  // a condition of inf survives
+      std::vector<const float*> p;
+      for (auto& v : planes) p.push_back(v.data());
+      w.WriteRows(rows, p);
+    }
+    CHECK_FALSE(std::filesystem::exists(dir / "m.exr"));  // only complete maps appear
+    w.Finish();
+  }
+  const SvbrdfMap map = ReadSvbrdfMap(dir / "m.exr");
+  CHECK(map.info.width == 7);
+  CHECK(map.info.height == 5);
+  CHECK(map.info.components == 3);
+  CHECK(map.info.basis_crc32 == 0xdeadbeef);
+  CHECK(map.info.camera_model == "ref.cameramodel");
+  CHECK(map.info.pixel_size_mm == 0.25);
+  CHECK(map.Coefficients(3, 4, 1) == std::vector<float>{value(3, 3, 4), value(4, 3, 4), value(5, 3, 4)});
+  CHECK(map.Plane("valid", 6, 1) == value(9, 6, 1));
+  CHECK(std::isinf(map.Plane("condition", 0, 2)));
+}
+
+TEST_CASE("an unfinished map leaves no file; a foreign EXR is refused", "[map]") {
+  test::TempDir dir;
+  SvbrdfMapInfo info;
+  info.width = 4;
+  info.height = 4;
+  info.components = 1;
+  { SvbrdfMapWriter w(dir / "m.exr", info); }  // abandoned, e.g. by an exception
+  CHECK(std::filesystem::is_empty(std::filesystem::path(dir / "")));
+  CHECK_THROWS_WITH(ReadSvbrdfMap(dir / "none.exr"), Catch::Contains("none.exr"));
+  CHECK_THROWS_WITH(ReadSvbrdfMap(test::DataPath("directions/seed_directions_20.tsv")),
+                    Catch::Contains("cannot read the SVBRDF map"));
+}
