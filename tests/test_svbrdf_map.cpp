@@ -50,7 +50,8 @@ TEST_CASE("SVBRDF map: written band by band, read back identical, with its metad
   CHECK(map.info.basis_crc32 == 0xdeadbeef);
   CHECK(map.info.camera_model == "ref.cameramodel");
   CHECK(map.info.pixel_size_mm == 0.25);
-  CHECK(map.Coefficients(3, 4, 1) == std::vector<float>{value(3, 3, 4), value(4, 3, 4), value(5, 3, 4)});
+  CHECK(map.Coefficients(3, 4, 1) ==
+        std::vector<float>{value(3, 3, 4), value(4, 3, 4), value(5, 3, 4)});
   CHECK(map.Plane("valid", 6, 1) == value(9, 6, 1));
   CHECK(std::isinf(map.Plane("condition", 0, 2)));
 }

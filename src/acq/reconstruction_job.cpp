@@ -16,9 +16,10 @@ void ReconstructionOptions::Check(const BasisView& basis) const {
 void ReconstructionReport::Print() const {
   std::printf("pixels: %ld, valid %ld (%.1f%%)\n", pixels, valid,
               pixels ? 100.0 * double(valid) / double(pixels) : 0.0);
-  std::printf("  not valid: %ld with no usable observation, %ld with too few observations, %ld "
-              "poorly conditioned\n",
-              no_observation, too_few_observations, poorly_conditioned);
+  std::printf(
+      "  not valid: %ld with no usable observation, %ld with too few observations, %ld "
+      "poorly conditioned\n",
+      no_observation, too_few_observations, poorly_conditioned);
   std::printf("time: %.2f s solving, %.2f s in all: %.3f megapixels/s\n", solve_seconds,
               total_seconds, total_seconds > 0 ? double(pixels) / total_seconds / 1e6 : 0.0);
 }

@@ -19,9 +19,9 @@ struct ReconstructionOptions {
 
 struct ReconstructionReport {
   long pixels = 0, valid = 0;
-  long no_observation = 0;      // no usable view at all
+  long no_observation = 0;        // no usable view at all
   long too_few_observations = 0;  // fewer than PixelSolveOptions::MinObservations()
-  long poorly_conditioned = 0;  // enough views, condition number over the limit
+  long poorly_conditioned = 0;    // enough views, condition number over the limit
   double solve_seconds = 0, total_seconds = 0;
   void Print() const;
 };

@@ -25,15 +25,17 @@ RowLookup LookupFrom(const Args& args) {
 
 void ParseSize(const std::string& s, int* w, int* h) {
   if (std::sscanf(s.c_str(), "%dx%d", w, h) != 2 || *w < 1 || *h < 1 || *w > 65536 || *h > 65536)
-    throw UserError("--size", "expected WIDTHxHEIGHT in pixels, got '" + s + "'", "e.g. --size 256x256");
+    throw UserError("--size", "expected WIDTHxHEIGHT in pixels, got '" + s + "'",
+                    "e.g. --size 256x256");
 }
 
 }  // namespace
 
 int ReconstructSynthetic(const Argv& argv) {
-  std::set<std::string> valued = {"basis", "directions", "materials", "materials-dir", "size",
-                                  "k", "eta", "lookup", "band-rows", "noise", "seed", "o",
-                                  "min-observations", "max-condition"};
+  std::set<std::string> valued = {
+      "basis", "directions", "materials",        "materials-dir", "size",
+      "k",     "eta",        "lookup",           "band-rows",     "noise",
+      "seed",  "o",          "min-observations", "max-condition"};
   valued.insert(kGeometryOptions.begin(), kGeometryOptions.end());
   const Args args("acq reconstruct synthetic", argv, valued,
                   {"ignore-near-field", "truth-tables", "score", "quiet"});
@@ -73,9 +75,9 @@ int ReconstructSynthetic(const Argv& argv) {
   o.centre_directions = args.Has("ignore-near-field");
   o.noise_sigma = args.GetDouble("noise", 0.0);
   o.seed = std::uint64_t(args.GetInt("seed", 1));
-  sim::SyntheticSource source(sim::MakeCardLayout(w, h, o.geometry.sample_size_mm,
-                                                  int(names.size()), o.seed),
-                              truth, views, o);
+  sim::SyntheticSource source(
+      sim::MakeCardLayout(w, h, o.geometry.sample_size_mm, int(names.size()), o.seed), truth, views,
+      o);
 
   ReconstructionOptions r;
   r.solve.components = args.GetInt("k", r.solve.components);
@@ -108,9 +110,10 @@ int ReconstructSynthetic(const Argv& argv) {
           errors.push_back(held.LogRmse(source.scene().label[std::size_t(y) * w + x] * 3 + c,
                                         coeff.cast<double>()));
         }
-    std::printf("score: median per-pixel log-space RMSE against the ground truth: %.4f (%zu pixel "
-                "channels)\n",
-                Median(errors), errors.size());
+    std::printf(
+        "score: median per-pixel log-space RMSE against the ground truth: %.4f (%zu pixel "
+        "channels)\n",
+        Median(errors), errors.size());
   }
   return 0;
 }

@@ -28,14 +28,19 @@ Eigen::Vector3d DifferenceVector(double theta_d, double phi_d) {
 RusinkiewiczAngles RusinkiewiczFromDirections(const Eigen::Vector3d& in,
                                               const Eigen::Vector3d& out) {
   const Eigen::Vector3d half = (in + out).normalized();
+  const double sin_h = std::hypot(half.x(), half.y()), cos_h = half.z();
   RusinkiewiczAngles a;
-  a.theta_h = Zenith(half);
+  a.theta_h = std::atan2(sin_h, cos_h);
   // At theta_h = 0 phi_h is undefined and phi_d is measured from it; the convention is
   // phi_h = 0, so phi_d is the azimuth of w_i in the surface frame.
-  a.phi_h = std::hypot(half.x(), half.y()) < kPoleTolerance ? 0.0 : std::atan2(half.y(), half.x());
-  // Rotate w_i into the half-vector frame: -phi_h about the normal, then -theta_h about y.
-  const Eigen::Vector3d diff = Eigen::AngleAxisd(-a.theta_h, Eigen::Vector3d::UnitY()) *
-                               (Eigen::AngleAxisd(-a.phi_h, Eigen::Vector3d::UnitZ()) * in);
+  const bool pole = sin_h < kPoleTolerance;
+  a.phi_h = pole ? 0.0 : std::atan2(half.y(), half.x());
+  const double cos_p = pole ? 1.0 : half.x() / sin_h, sin_p = pole ? 0.0 : half.y() / sin_h;
+  // Rotate w_i into the half-vector frame: -phi_h about the normal, then -theta_h about y. The
+  // cosines and sines come from the half vector itself; no trigonometric calls.
+  const double x1 = cos_p * in.x() + sin_p * in.y();
+  const double y1 = -sin_p * in.x() + cos_p * in.y();
+  const Eigen::Vector3d diff(cos_h * x1 - sin_h * in.z(), y1, sin_h * x1 + cos_h * in.z());
   a.theta_d = Zenith(diff);
   a.phi_d = std::atan2(diff.y(), diff.x());
   return a;
