@@ -1,10 +1,12 @@
 #include <catch2/catch.hpp>
 #include <cmath>
 
+#include "acq/map_render.h"
 #include "acq/reconstruction_job.h"
 #include "brdf/direction_optimizer.h"
 #include "brdf/evaluation.h"
 #include "brdf/fov_evaluation.h"
+#include "brdf/log_mapping.h"
 #include "brdf/pixel_solver.h"
 #include "core/angles.h"
 #include "sim/synthetic_svbrdf.h"
@@ -241,4 +243,51 @@ TEST_CASE("the reconstruction job streams bands into a map that equals a direct 
       const std::vector<float> c = map.Coefficients(x, y, 2);
       for (int j = 0; j < 20; ++j) REQUIRE(c[j] == direct.coefficients[(p * 3 + 2) * 20 + j]);
     }
+}
+
+TEST_CASE("using a map: view render, MERL export and spheres follow the BRDF definition",
+          "[pixel][render]") {
+  const Fixture& d = Data();
+  const BasisView basis = d.basis.View();
+  sim::SyntheticSource source(sim::MakeCardLayout(12, 10, 20.0, 4, 2), d.continuous, d.views, {});
+  ReconstructionOptions r;
+  r.progress = false;
+  test::TempDir dir;
+  Reconstruct(basis, source, r, {}, dir / "m.exr");
+  const SvbrdfMap map = ReadSvbrdfMap(dir / "m.exr");
+  std::vector<float> c;
+  for (int ch = 0; ch < 3; ++ch) {
+    const auto v = map.Coefficients(5, 4, ch);
+    c.insert(c.end(), v.begin(), v.end());
+  }
+  // Export: at a bin centre, the table holds the inverse mapping of q . c + mu there.
+  const MerlBrdf table = PixelAsMerl(map, basis, 5, 4);
+  for (std::size_t bin : BinsOf(RandomDirections(20, 8))) {
+    double x = basis.mean[bin];
+    for (int j = 0; j < 20; ++j) x += double(basis.Row(bin)[j]) * c[20 + j];  // green
+    const double want =
+        std::max(UnmapBrdf(x, merl::Geometry().cos_weight[bin], basis.ref[bin]), 0.0);
+    REQUIRE(table.Value(1, bin) == Approx(want).epsilon(1e-5).margin(1e-9));
+  }
+  // View: light straight above the centre at 1 m, camera overhead: pixel (5, 4) sees
+  // rho cos(theta_i) / r^2 with its own directions.
+  NearFieldGeometry g;
+  const ArmAngles arms{0, 0, 0, 0};
+  const RgbImage view = RenderView(map, basis, arms, g, RowLookup::kNearest);
+  const Eigen::Vector2d p((5 + 0.5 - 6) * map.info.pixel_size_mm,
+                          (4 + 0.5 - 5) * map.info.pixel_size_mm);
+  const DirectionPair dirs = g.DirectionsAt(arms, p);
+  const auto rho =
+      BrdfFromCoefficients(basis, c.data(), 20, dirs.in, dirs.out, RowLookup::kNearest);
+  const double r2 =
+      (Eigen::Vector3d(0, 0, 1000) - Eigen::Vector3d(p.x(), p.y(), 0)).squaredNorm() / 1e6;
+  CHECK(view.rgb[(4 * 12 + 5) * 3] == Approx(rho[0] * dirs.in.z() / r2).epsilon(1e-5));
+  // Spheres: lit inside the disc where the light is above the surface, black outside it.
+  const RgbImage spheres =
+      RenderSpheres(map, basis, {{5, 4}, {0, 0}}, {0, 0, 1}, 32, RowLookup::kNearest);
+  CHECK(spheres.width == 64);
+  CHECK(spheres.rgb[(16 * 64 + 16) * 3] > 0);  // centre of the first sphere
+  CHECK(spheres.rgb[0] == 0);                  // corner, outside the disc
+  CHECK_THROWS_WITH(RenderSpheres(map, basis, {{12, 0}}, {0, 0, 1}, 8, RowLookup::kNearest),
+                    Catch::Contains("outside the map"));
 }

@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
+#include "brdf/log_mapping.h"
 #include "core/angles.h"
 
 namespace acq {
@@ -62,6 +64,22 @@ bool SampleBasis(const BasisView& basis, const Eigen::Vector3d& in, const Eigen:
   sample->mean = float(mean / total);
   sample->ref = float(ref / total);
   return true;
+}
+
+std::array<double, 3> BrdfFromCoefficients(const BasisView& basis, const float* coefficients, int k,
+                                           const Eigen::Vector3d& in, const Eigen::Vector3d& out,
+                                           RowLookup lookup) {
+  std::array<double, 3> rgb = {0, 0, 0};
+  float row[256];
+  if (k > 256) throw std::logic_error("BrdfFromCoefficients: k > 256");
+  BasisSample s;
+  if (!SampleBasis(basis, in, out, k, lookup, row, &s)) return rgb;
+  for (int c = 0; c < 3; ++c) {
+    double x = s.mean;
+    for (int j = 0; j < k; ++j) x += double(row[j]) * coefficients[c * k + j];
+    rgb[c] = std::max(UnmapBrdf(x, s.cos_weight, s.ref), 0.0);
+  }
+  return rgb;
 }
 
 }  // namespace acq

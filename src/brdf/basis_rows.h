@@ -6,6 +6,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <array>
 
 #include "brdf/basis.h"
 
@@ -22,5 +23,12 @@ struct BasisSample {
 // above the horizon) into `row`. Returns false when no valid bin contributes.
 bool SampleBasis(const BasisView& basis, const Eigen::Vector3d& in, const Eigen::Vector3d& out,
                  int k, RowLookup lookup, float* row, BasisSample* sample);
+
+// The BRDF (1/sr, RGB) that per-channel coefficients (3 x k, R then G then B) describe, at the
+// directions: x = q . c + mu, then the inverse log mapping with the true directions' cos weight.
+// Zero below the horizon or where no valid bin contributes.
+std::array<double, 3> BrdfFromCoefficients(const BasisView& basis, const float* coefficients, int k,
+                                           const Eigen::Vector3d& in, const Eigen::Vector3d& out,
+                                           RowLookup lookup);
 
 }  // namespace acq

@@ -66,6 +66,26 @@ const std::map<std::string, Command>& Commands() {
         "  Reconstructs a synthetic printed card from observations made straight from the\n"
         "  ground truth, per pixel, into an SVBRDF map (docs/svbrdf-map.md); --score compares\n"
         "  every pixel with its true material."}},
+      {"render quicklook",
+       {RenderQuicklook,
+        "acq render quicklook --map MAP.exr -o DIR [--basis BASIS]\n"
+        "  PNGs of the BRDF at a diffuse and a specular configuration, and of the per-pixel\n"
+        "  diagnostics (valid, observations, condition, residual)."}},
+      {"render view",
+       {RenderView,
+        "acq render view --map MAP.exr -o VIEW.png [--light-theta-deg 30 --light-phi-deg 0]\n"
+        "    [--camera-theta-deg 0 --camera-phi-deg 0] [--camera-distance-mm 1000]\n"
+        "    [--light-distance-mm 1000] [--exposure E] [--basis BASIS]\n"
+        "  The sample under any arm pose, in reference-view pixels, with near-field directions."}},
+      {"render spheres",
+       {RenderSpheres,
+        "acq render spheres --map MAP.exr --pixel X,Y [--pixel X,Y ...] -o SPHERES.png\n"
+        "    [--size 256] [--light-theta-deg 45 --light-phi-deg 135] [--basis BASIS]\n"
+        "  Spheres with the BRDF of chosen pixels, lit by a distant point light."}},
+      {"render export",
+       {RenderExport,
+        "acq render export --map MAP.exr --pixel X,Y -o PIXEL.binary [--basis BASIS]\n"
+        "  A pixel's BRDF as a MERL .binary (pbrt, Mitsuba)."}},
   };
   return commands;
 }

@@ -17,5 +17,9 @@ int DirectionsRandom(const Argv& args);
 int DirectionsOptimize(const Argv& args);
 int DirectionsEval(const Argv& args);
 int ReconstructSynthetic(const Argv& args);
+int RenderQuicklook(const Argv& args);
+int RenderView(const Argv& args);
+int RenderSpheres(const Argv& args);
+int RenderExport(const Argv& args);
 
 }  // namespace acq::cli

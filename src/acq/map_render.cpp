@@ -1,0 +1,178 @@
+#include "acq/map_render.h"
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <opencv2/imgcodecs.hpp>
+
+#include "core/error.h"
+
+namespace acq {
+namespace {
+
+RowLookup LookupOf(const SvbrdfMap& map) {
+  return map.info.lookup == "interpolated" ? RowLookup::kInterpolated : RowLookup::kNearest;
+}
+
+// The map's coefficients of a pixel, R then G then B.
+std::vector<float> PixelCoefficients(const SvbrdfMap& map, int x, int y) {
+  std::vector<float> all;
+  for (int c = 0; c < 3; ++c) {
+    const std::vector<float> v = map.Coefficients(x, y, c);
+    all.insert(all.end(), v.begin(), v.end());
+  }
+  return all;
+}
+
+// Sample point of a reference pixel: the reference view looks straight down at the centre.
+Eigen::Vector2d PointOf(const SvbrdfMap& map, int x, int y) {
+  return {(x + 0.5 - map.info.width / 2.0) * map.info.pixel_size_mm,
+          (y + 0.5 - map.info.height / 2.0) * map.info.pixel_size_mm};
+}
+
+void CheckBasis(const SvbrdfMap& map, const BasisView& basis) {
+  if (basis.components < map.info.components)
+    throw UserError("--basis", "the basis has " + std::to_string(basis.components) +
+                                   " components, the map needs " +
+                                   std::to_string(map.info.components),
+                    "give the basis the map was reconstructed with (" + map.info.basis + ")");
+}
+
+}  // namespace
+
+RgbImage RenderView(const SvbrdfMap& map, const BasisView& basis, const ArmAngles& arms,
+                    const NearFieldGeometry& geometry, RowLookup lookup) {
+  CheckBasis(map, basis);
+  RgbImage img{map.info.width, map.info.height,
+               std::vector<float>(std::size_t(map.info.width) * map.info.height * 3, 0.0f)};
+  const DirectionPair far = DirectionsOf(arms);
+  const Eigen::Vector3d light_pos = geometry.light_distance_mm * far.in;
+#pragma omp parallel for schedule(dynamic, 8)
+  for (int y = 0; y < img.height; ++y) {
+    for (int x = 0; x < img.width; ++x) {
+      const Eigen::Vector2d p = PointOf(map, x, y);
+      const DirectionPair d = geometry.DirectionsAt(arms, p);
+      const double r_m = (light_pos - Eigen::Vector3d(p.x(), p.y(), 0)).norm() / 1000.0;
+      const std::vector<float> c = PixelCoefficients(map, x, y);
+      const auto rho = BrdfFromCoefficients(basis, c.data(), map.info.components, d.in, d.out, lookup);
+      for (int ch = 0; ch < 3; ++ch)
+        img.rgb[(std::size_t(y) * img.width + x) * 3 + ch] =
+            float(rho[ch] * std::max(d.in.z(), 0.0) / (r_m * r_m));
+    }
+  }
+  return img;
+}
+
+RgbImage RenderConfiguration(const SvbrdfMap& map, const BasisView& basis,
+                             const DirectionPair& d, RowLookup lookup) {
+  CheckBasis(map, basis);
+  RgbImage img{map.info.width, map.info.height,
+               std::vector<float>(std::size_t(map.info.width) * map.info.height * 3, 0.0f)};
+#pragma omp parallel for schedule(dynamic, 8)
+  for (int y = 0; y < img.height; ++y)
+    for (int x = 0; x < img.width; ++x) {
+      const std::vector<float> c = PixelCoefficients(map, x, y);
+      const auto rho = BrdfFromCoefficients(basis, c.data(), map.info.components, d.in, d.out, lookup);
+      for (int ch = 0; ch < 3; ++ch)
+        img.rgb[(std::size_t(y) * img.width + x) * 3 + ch] = float(rho[ch]);
+    }
+  return img;
+}
+
+RgbImage RenderSpheres(const SvbrdfMap& map, const BasisView& basis,
+                       const std::vector<std::pair<int, int>>& pixels, const Eigen::Vector3d& light,
+                       int size, RowLookup lookup) {
+  CheckBasis(map, basis);
+  RgbImage img{size * int(pixels.size()), size,
+               std::vector<float>(std::size_t(size) * size * pixels.size() * 3, 0.0f)};
+  const Eigen::Vector3d view(0, 0, 1), l = light.normalized();
+  for (std::size_t s = 0; s < pixels.size(); ++s) {
+    const auto [px, py] = pixels[s];
+    if (px < 0 || py < 0 || px >= map.info.width || py >= map.info.height)
+      throw UserError("--pixel " + std::to_string(px) + "," + std::to_string(py),
+                      "outside the map (" + std::to_string(map.info.width) + "x" +
+                          std::to_string(map.info.height) + ")");
+    const std::vector<float> c = PixelCoefficients(map, px, py);
+#pragma omp parallel for schedule(dynamic, 4)
+    for (int y = 0; y < size; ++y)
+      for (int x = 0; x < size; ++x) {
+        const double u = (x + 0.5) / size * 2 - 1, v = 1 - (y + 0.5) / size * 2;
+        if (u * u + v * v >= 1) continue;
+        const Eigen::Vector3d n(u, v, std::sqrt(1 - u * u - v * v));
+        // Local frame at the sphere point: z along the normal.
+        const Eigen::Vector3d t = (std::abs(n.x()) < 0.9 ? Eigen::Vector3d::UnitX()
+                                                          : Eigen::Vector3d::UnitY())
+                                      .cross(n)
+                                      .normalized();
+        const Eigen::Vector3d b = n.cross(t);
+        const Eigen::Vector3d in(l.dot(t), l.dot(b), l.dot(n)), out(view.dot(t), view.dot(b), view.dot(n));
+        if (in.z() <= 0 || out.z() <= 0) continue;
+        const auto rho = BrdfFromCoefficients(basis, c.data(), map.info.components, in, out, lookup);
+        for (int ch = 0; ch < 3; ++ch)
+          img.rgb[(std::size_t(y) * img.width + s * size + x) * 3 + ch] = float(rho[ch] * in.z());
+      }
+  }
+  return img;
+}
+
+MerlBrdf PixelAsMerl(const SvbrdfMap& map, const BasisView& basis, int x, int y) {
+  CheckBasis(map, basis);
+  if (x < 0 || y < 0 || x >= map.info.width || y >= map.info.height)
+    throw UserError("--pixel " + std::to_string(x) + "," + std::to_string(y), "outside the map");
+  const std::vector<float> c = PixelCoefficients(map, x, y);
+  MerlBrdf out;
+  const merl::GridGeometry& g = merl::Geometry();
+#pragma omp parallel for schedule(static)
+  for (std::size_t i = 0; i < g.valid_bins.size(); ++i) {
+    const std::uint32_t bin = g.valid_bins[i];
+    const DirectionPair d = DirectionsFromRusinkiewicz(merl::BinCentre(merl::BinFromFlat(bin)));
+    const auto rho = BrdfFromCoefficients(basis, c.data(), map.info.components, d.in, d.out,
+                                          RowLookup::kNearest);
+    for (int ch = 0; ch < 3; ++ch) out.SetValue(ch, bin, rho[ch]);
+  }
+  return out;
+}
+
+void WritePng(const RgbImage& image, const std::string& path, double exposure) {
+  if (exposure <= 0) {
+    std::vector<float> v(image.rgb);
+    const std::size_t at = std::min(v.size() - 1, std::size_t(0.99 * double(v.size())));
+    std::nth_element(v.begin(), v.begin() + at, v.end());
+    exposure = v[at] > 0 ? 0.9 / v[at] : 1.0;
+  }
+  cv::Mat out(image.height, image.width, CV_8UC3);
+  for (int y = 0; y < image.height; ++y)
+    for (int x = 0; x < image.width; ++x)
+      for (int ch = 0; ch < 3; ++ch) {
+        const double l = std::clamp(image.rgb[(std::size_t(y) * image.width + x) * 3 + ch] * exposure, 0.0, 1.0);
+        const double srgb = l <= 0.0031308 ? 12.92 * l : 1.055 * std::pow(l, 1 / 2.4) - 0.055;
+        out.at<cv::Vec3b>(y, x)[2 - ch] = cv::saturate_cast<uchar>(srgb * 255 + 0.5);  // BGR
+      }
+  bool ok = false;
+  try {
+    ok = cv::imwrite(path, out);
+  } catch (const cv::Exception& e) {
+    throw UserError(path, std::string("cannot write PNG: ") + e.what());
+  }
+  if (!ok) throw UserError(path, "cannot write PNG", "check the folder exists and the name ends in .png");
+}
+
+void WriteDiagnosticPng(const SvbrdfMap& map, const std::string& plane, const std::string& path) {
+  const bool log_scale = plane == "condition";
+  std::vector<double> v;
+  for (int y = 0; y < map.info.height; ++y)
+    for (int x = 0; x < map.info.width; ++x) {
+      double a = map.Plane(plane, x, y);
+      if (log_scale) a = std::isfinite(a) && a > 0 ? std::log10(a) : 8.0;  // inf shown as 1e8
+      v.push_back(a);
+    }
+  const auto [lo, hi] = std::minmax_element(v.begin(), v.end());
+  const double span = *hi > *lo ? *hi - *lo : 1.0;
+  cv::Mat out(map.info.height, map.info.width, CV_8UC1);
+  for (int i = 0; i < int(v.size()); ++i)
+    out.at<uchar>(i / map.info.width, i % map.info.width) =
+        cv::saturate_cast<uchar>((v[i] - *lo) / span * 255);
+  if (!cv::imwrite(path, out)) throw UserError(path, "cannot write PNG");
+}
+
+}  // namespace acq

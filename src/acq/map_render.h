@@ -1,0 +1,48 @@
+// Using an SVBRDF map (Yu et al. Figs. 1 and 5): the sample re-rendered under any light and
+// camera arm pose (validation views, in reference-view pixels), spheres lit by a point light
+// with the BRDF of chosen pixels, a pixel's BRDF as a MERL table, and quick-look maps.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "brdf/basis_rows.h"
+#include "brdf/merl_brdf.h"
+#include "core/gantry_geometry.h"
+#include "io/svbrdf_map.h"
+
+namespace acq {
+
+struct RgbImage {
+  int width = 0, height = 0;
+  std::vector<float> rgb;  // row-major, 3 floats a pixel, linear
+};
+
+// Relative radiance of every reference pixel for a light of unit intensity at the arms' light
+// pose and the camera at theirs, each pixel with its own near-field directions:
+// L = rho(w_i, w_o) cos(theta_i) / r_light^2 (scaled so a light at 1 m gives rho cos).
+RgbImage RenderView(const SvbrdfMap& map, const BasisView& basis, const ArmAngles& arms,
+                    const NearFieldGeometry& geometry, RowLookup lookup);
+
+// The BRDF at one far-field configuration for every pixel: quick-look maps.
+RgbImage RenderConfiguration(const SvbrdfMap& map, const BasisView& basis,
+                             const DirectionPair& directions, RowLookup lookup);
+
+// One sphere a pixel, side by side, each `size` pixels across, seen orthographically from +z
+// and lit from `light` (a direction): L = rho cos(theta_i). Pixels as (x, y) in the map.
+RgbImage RenderSpheres(const SvbrdfMap& map, const BasisView& basis,
+                       const std::vector<std::pair<int, int>>& pixels, const Eigen::Vector3d& light,
+                       int size, RowLookup lookup);
+
+// A pixel's reconstructed BRDF tabulated on the MERL grid (masked bins -1).
+MerlBrdf PixelAsMerl(const SvbrdfMap& map, const BasisView& basis, int x, int y);
+
+// Linear image to an 8-bit sRGB PNG; `exposure` scales first, 0 picks it so that the 99th
+// percentile maps to 0.9. Throws UserError naming the file when it cannot be written.
+void WritePng(const RgbImage& image, const std::string& path, double exposure = 0);
+
+// The map's per-pixel diagnostics as a grey PNG: `plane` in valid, observations, condition
+// (log10), residual; scaled to its own range.
+void WriteDiagnosticPng(const SvbrdfMap& map, const std::string& plane, const std::string& path);
+
+}  // namespace acq

@@ -1,0 +1,116 @@
+#include <cstdio>
+#include <filesystem>
+
+#include "acq/map_render.h"
+#include "brdf/basis_file.h"
+#include "cli/args.h"
+#include "cli/commands.h"
+#include "cli/geometry_args.h"
+#include "core/angles.h"
+#include "core/error.h"
+
+namespace acq::cli {
+namespace {
+
+// The map and the basis it names (or --basis); refuses a basis whose checksum differs.
+struct MapAndBasis {
+  SvbrdfMap map;
+  MappedBasis basis;
+};
+
+MapAndBasis Open(const Args& args) {
+  SvbrdfMap map = ReadSvbrdfMap(args.Required("map"));
+  const std::string basis_path = args.Get("basis", map.info.basis);
+  MappedBasis basis = MappedBasis::Open(basis_path);
+  if (basis.Checksum() != map.info.basis_crc32)
+    throw UserError(basis_path,
+                    "is not the basis the map was reconstructed with (checksum differs from the "
+                    "map's acqBasisCrc32)",
+                    "give --basis the file the map names: " + map.info.basis);
+  return {std::move(map), std::move(basis)};
+}
+
+std::vector<std::pair<int, int>> Pixels(const Args& args) {
+  std::vector<std::pair<int, int>> out;
+  const auto it = args.Has("pixel");
+  if (!it) throw UserError("acq render", "missing --pixel X,Y", "repeat --pixel for several");
+  // "X,Y" values: All() splits on commas, so pair them up.
+  const std::vector<std::string> parts = args.All("pixel");
+  if (parts.size() % 2) throw UserError("--pixel", "expected X,Y pairs");
+  for (std::size_t i = 0; i < parts.size(); i += 2) {
+    try {
+      out.emplace_back(std::stoi(parts[i]), std::stoi(parts[i + 1]));
+    } catch (const std::exception&) {
+      throw UserError("--pixel", "expected integers X,Y, got '" + parts[i] + "," + parts[i + 1] + "'");
+    }
+  }
+  return out;
+}
+
+double DegArg(const Args& args, const std::string& name, double fallback) {
+  return DegToRad(args.GetDouble(name, fallback));
+}
+
+}  // namespace
+
+int RenderQuicklook(const Argv& argv) {
+  const Args args("acq render quicklook", argv, {"map", "basis", "o"}, {});
+  const MapAndBasis m = Open(args);
+  const std::string dir = args.Required("o");
+  std::filesystem::create_directories(dir);
+  const RowLookup lookup = m.map.info.lookup == "interpolated" ? RowLookup::kInterpolated : RowLookup::kNearest;
+  // Diffuse-looking: light 45 degrees off, camera overhead, far from the mirror direction.
+  const ArmAngles diffuse{DegToRad(45), 0, 0, 0};
+  // Specular: light and camera mirrored at 30 degrees (theta_h = 0).
+  const ArmAngles specular{DegToRad(30), 0, DegToRad(30), kPi};
+  WritePng(RenderConfiguration(m.map, m.basis.View(), DirectionsOf(diffuse), lookup), dir + "/diffuse.png");
+  WritePng(RenderConfiguration(m.map, m.basis.View(), DirectionsOf(specular), lookup), dir + "/specular.png");
+  for (const char* plane : {"valid", "observations", "condition", "residual"})
+    WriteDiagnosticPng(m.map, plane, dir + "/" + plane + ".png");
+  std::printf("wrote %s/{diffuse,specular,valid,observations,condition,residual}.png\n", dir.c_str());
+  return 0;
+}
+
+int RenderView(const Argv& argv) {
+  std::set<std::string> valued = {"map", "basis", "o", "light-theta-deg", "light-phi-deg",
+                                  "camera-theta-deg", "camera-phi-deg", "exposure"};
+  valued.insert(kGeometryOptions.begin(), kGeometryOptions.end());
+  const Args args("acq render view", argv, valued, {});
+  const MapAndBasis m = Open(args);
+  const ArmAngles arms{DegArg(args, "light-theta-deg", 30), DegArg(args, "light-phi-deg", 0),
+                       DegArg(args, "camera-theta-deg", 0), DegArg(args, "camera-phi-deg", 0)};
+  NearFieldGeometry g = GeometriesFrom(args)[0];
+  const RgbImage img = RenderView(m.map, m.basis.View(), arms, g,
+                                  m.map.info.lookup == "interpolated" ? RowLookup::kInterpolated
+                                                                      : RowLookup::kNearest);
+  WritePng(img, args.Required("o"), args.GetDouble("exposure", 0));
+  std::printf("wrote %s\n", args.Get("o").c_str());
+  return 0;
+}
+
+int RenderSpheres(const Argv& argv) {
+  const Args args("acq render spheres", argv,
+                  {"map", "basis", "o", "pixel", "size", "light-theta-deg", "light-phi-deg", "exposure"}, {});
+  const MapAndBasis m = Open(args);
+  const double t = DegArg(args, "light-theta-deg", 45), p = DegArg(args, "light-phi-deg", 135);
+  const Eigen::Vector3d light(std::sin(t) * std::cos(p), std::sin(t) * std::sin(p), std::cos(t));
+  const RgbImage img = RenderSpheres(m.map, m.basis.View(), Pixels(args), light,
+                                     args.GetInt("size", 256), RowLookup::kNearest);
+  WritePng(img, args.Required("o"), args.GetDouble("exposure", 0));
+  std::printf("wrote %s\n", args.Get("o").c_str());
+  return 0;
+}
+
+int RenderExport(const Argv& argv) {
+  const Args args("acq render export", argv, {"map", "basis", "o", "pixel"}, {});
+  const MapAndBasis m = Open(args);
+  const auto pixels = Pixels(args);
+  if (pixels.size() != 1) throw UserError("--pixel", "export one pixel at a time");
+  WriteMerlBinary(PixelAsMerl(m.map, m.basis.View(), pixels[0].first, pixels[0].second),
+                  args.Required("o"));
+  std::printf("wrote %s (MERL .binary of pixel %d,%d)\n", args.Get("o").c_str(), pixels[0].first,
+              pixels[0].second);
+  return 0;
+}
+
+}  // namespace acq::cli
