@@ -1,8 +1,15 @@
 #!/usr/bin/env bash
 # Set up, build and run the main job: the README's first command.
-# Until the capture pipeline exists, the main job is the basis study of issue 2: build the
-# BRDF basis from 90 materials, hold out the other 10 (every tenth by sorted name from the
-# sixth), and reconstruct them from the seed paper's 20 directions and from 20 random ones.
+# Until the capture pipeline (gantry, camera, calibration, acqd) exists, the main job is the
+# offline chain on simulated data:
+#   1. the BRDF basis from 90 materials, the other 10 held out (every tenth by sorted name from
+#      the sixth), evaluated with the seed paper's 20 directions and 20 random ones;
+#   2. 20 directions optimised for this basis under the gantry's constraints, evaluated likewise
+#      at the sample's centre and over 4 and 10 degree fields of view;
+#   3. a synthetic printed card of four held-out materials, observed per pixel at a 4 degree
+#      field of view through the optimised directions, reconstructed pixel by pixel into an
+#      SVBRDF map and scored against its ground truth;
+#   4. renders of the map: quick looks, a view under a new arm pose, spheres of chosen pixels.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 tools/setup.sh
@@ -14,16 +21,40 @@ mkdir -p "$out"
 $acq basis build data/nbrdf/merl --holdout-every 10 --holdout-offset 5 -o "$out/basis90.acqb"
 $acq directions random --n 20 --seed 1 -o "$out/random20.tsv"
 echo
-echo "== seed paper's 20 directions, k = 20, eta = 40 =="
+echo "== 1. seed paper's 20 directions, k = 20, eta = 40 =="
 $acq basis eval --basis "$out/basis90.acqb" --directions data/directions/seed_directions_20.tsv \
   --k 20 --eta 40 --csv "$out/eval_seed20.csv" --write-recon "$out/recon_seed20" data/nbrdf/merl
 echo
-echo "== 20 random directions (seed 1), k = 20, eta = 40 =="
+echo "== 1. 20 random directions (seed 1), k = 20, eta = 40 =="
 $acq basis eval --basis "$out/basis90.acqb" --directions "$out/random20.tsv" \
   --k 20 --eta 40 --csv "$out/eval_random20.csv" data/nbrdf/merl
 echo
+echo "== 2. 20 optimised directions (camera zenith <= 65 deg) =="
+$acq directions optimize --basis "$out/basis90.acqb" --n 20 -o "$out/optimized20.tsv" --quiet
+for set in data/directions/seed_directions_20.tsv "$out/optimized20.tsv"; do
+  $acq directions eval --basis "$out/basis90.acqb" --directions "$set" --fov-deg 0,4,10 data/nbrdf/merl
+done
+echo
+echo "== 3. synthetic card, 256 x 256 pixels, 4 degree field of view, per-pixel reconstruction =="
+$acq reconstruct synthetic --basis "$out/basis90.acqb" --directions "$out/optimized20.tsv" \
+  --size 256x256 --fov-deg 4 -o "$out/card_svbrdf.exr" --score --quiet
+echo
+echo "== 4. renders =="
+$acq render quicklook --map "$out/card_svbrdf.exr" -o "$out/quicklook"
+$acq render view --map "$out/card_svbrdf.exr" --light-theta-deg 40 --light-phi-deg 30 \
+  --camera-theta-deg 25 --camera-phi-deg 200 --fov-deg 4 -o "$out/card_view.png"
+$acq render spheres --map "$out/card_svbrdf.exr" --pixel 128,20 --pixel 60,60 --pixel 200,170 \
+  --pixel 40,160 -o "$out/card_spheres.png"
+$acq render export --map "$out/card_svbrdf.exr" --pixel 60,60 -o "$out/card_pixel_60_60.binary"
+echo
 echo "outputs in $out:"
-echo "  basis90.acqb             the basis (docs/basis-format.md)"
-echo "  eval_seed20.csv          per-material, per-channel errors, seed directions"
-echo "  eval_random20.csv        the same for 20 random directions"
-echo "  recon_seed20/*.binary    reconstructed held-out BRDFs as MERL .binary (pbrt, Mitsuba)"
+echo "  basis90.acqb               the basis (docs/basis-format.md)"
+echo "  eval_seed20.csv            per-material, per-channel errors, seed directions"
+echo "  eval_random20.csv          the same for 20 random directions"
+echo "  recon_seed20/*.binary      reconstructed held-out BRDFs as MERL .binary (pbrt, Mitsuba)"
+echo "  optimized20.tsv            optimised directions with arm angles (docs/directions.md)"
+echo "  card_svbrdf.exr            the card's SVBRDF map (docs/svbrdf-map.md)"
+echo "  quicklook/*.png            BRDF at a diffuse and a specular configuration, diagnostics"
+echo "  card_view.png              the card re-rendered under a new light and camera pose"
+echo "  card_spheres.png           spheres with the BRDFs of four pixels"
+echo "  card_pixel_60_60.binary    one pixel's BRDF as a MERL .binary"

@@ -32,9 +32,9 @@ Eigen::Vector2d PointOf(const SvbrdfMap& map, int x, int y) {
 
 void CheckBasis(const SvbrdfMap& map, const BasisView& basis) {
   if (basis.components < map.info.components)
-    throw UserError("--basis", "the basis has " + std::to_string(basis.components) +
-                                   " components, the map needs " +
-                                   std::to_string(map.info.components),
+    throw UserError("--basis",
+                    "the basis has " + std::to_string(basis.components) +
+                        " components, the map needs " + std::to_string(map.info.components),
                     "give the basis the map was reconstructed with (" + map.info.basis + ")");
 }
 
@@ -54,7 +54,8 @@ RgbImage RenderView(const SvbrdfMap& map, const BasisView& basis, const ArmAngle
       const DirectionPair d = geometry.DirectionsAt(arms, p);
       const double r_m = (light_pos - Eigen::Vector3d(p.x(), p.y(), 0)).norm() / 1000.0;
       const std::vector<float> c = PixelCoefficients(map, x, y);
-      const auto rho = BrdfFromCoefficients(basis, c.data(), map.info.components, d.in, d.out, lookup);
+      const auto rho =
+          BrdfFromCoefficients(basis, c.data(), map.info.components, d.in, d.out, lookup);
       for (int ch = 0; ch < 3; ++ch)
         img.rgb[(std::size_t(y) * img.width + x) * 3 + ch] =
             float(rho[ch] * std::max(d.in.z(), 0.0) / (r_m * r_m));
@@ -63,8 +64,8 @@ RgbImage RenderView(const SvbrdfMap& map, const BasisView& basis, const ArmAngle
   return img;
 }
 
-RgbImage RenderConfiguration(const SvbrdfMap& map, const BasisView& basis,
-                             const DirectionPair& d, RowLookup lookup) {
+RgbImage RenderConfiguration(const SvbrdfMap& map, const BasisView& basis, const DirectionPair& d,
+                             RowLookup lookup) {
   CheckBasis(map, basis);
   RgbImage img{map.info.width, map.info.height,
                std::vector<float>(std::size_t(map.info.width) * map.info.height * 3, 0.0f)};
@@ -72,7 +73,8 @@ RgbImage RenderConfiguration(const SvbrdfMap& map, const BasisView& basis,
   for (int y = 0; y < img.height; ++y)
     for (int x = 0; x < img.width; ++x) {
       const std::vector<float> c = PixelCoefficients(map, x, y);
-      const auto rho = BrdfFromCoefficients(basis, c.data(), map.info.components, d.in, d.out, lookup);
+      const auto rho =
+          BrdfFromCoefficients(basis, c.data(), map.info.components, d.in, d.out, lookup);
       for (int ch = 0; ch < 3; ++ch)
         img.rgb[(std::size_t(y) * img.width + x) * 3 + ch] = float(rho[ch]);
     }
@@ -100,14 +102,16 @@ RgbImage RenderSpheres(const SvbrdfMap& map, const BasisView& basis,
         if (u * u + v * v >= 1) continue;
         const Eigen::Vector3d n(u, v, std::sqrt(1 - u * u - v * v));
         // Local frame at the sphere point: z along the normal.
-        const Eigen::Vector3d t = (std::abs(n.x()) < 0.9 ? Eigen::Vector3d::UnitX()
-                                                          : Eigen::Vector3d::UnitY())
-                                      .cross(n)
-                                      .normalized();
+        const Eigen::Vector3d t =
+            (std::abs(n.x()) < 0.9 ? Eigen::Vector3d::UnitX() : Eigen::Vector3d::UnitY())
+                .cross(n)
+                .normalized();
         const Eigen::Vector3d b = n.cross(t);
-        const Eigen::Vector3d in(l.dot(t), l.dot(b), l.dot(n)), out(view.dot(t), view.dot(b), view.dot(n));
+        const Eigen::Vector3d in(l.dot(t), l.dot(b), l.dot(n)),
+            out(view.dot(t), view.dot(b), view.dot(n));
         if (in.z() <= 0 || out.z() <= 0) continue;
-        const auto rho = BrdfFromCoefficients(basis, c.data(), map.info.components, in, out, lookup);
+        const auto rho =
+            BrdfFromCoefficients(basis, c.data(), map.info.components, in, out, lookup);
         for (int ch = 0; ch < 3; ++ch)
           img.rgb[(std::size_t(y) * img.width + s * size + x) * 3 + ch] = float(rho[ch] * in.z());
       }
@@ -144,7 +148,8 @@ void WritePng(const RgbImage& image, const std::string& path, double exposure) {
   for (int y = 0; y < image.height; ++y)
     for (int x = 0; x < image.width; ++x)
       for (int ch = 0; ch < 3; ++ch) {
-        const double l = std::clamp(image.rgb[(std::size_t(y) * image.width + x) * 3 + ch] * exposure, 0.0, 1.0);
+        const double l =
+            std::clamp(image.rgb[(std::size_t(y) * image.width + x) * 3 + ch] * exposure, 0.0, 1.0);
         const double srgb = l <= 0.0031308 ? 12.92 * l : 1.055 * std::pow(l, 1 / 2.4) - 0.055;
         out.at<cv::Vec3b>(y, x)[2 - ch] = cv::saturate_cast<uchar>(srgb * 255 + 0.5);  // BGR
       }
@@ -154,7 +159,8 @@ void WritePng(const RgbImage& image, const std::string& path, double exposure) {
   } catch (const cv::Exception& e) {
     throw UserError(path, std::string("cannot write PNG: ") + e.what());
   }
-  if (!ok) throw UserError(path, "cannot write PNG", "check the folder exists and the name ends in .png");
+  if (!ok)
+    throw UserError(path, "cannot write PNG", "check the folder exists and the name ends in .png");
 }
 
 void WriteDiagnosticPng(const SvbrdfMap& map, const std::string& plane, const std::string& path) {

@@ -96,6 +96,38 @@ int ReconstructSynthetic(const Argv& argv) {
               args.Get("lookup", "nearest").c_str());
   report.Print();
 
+  if (args.Has("dump")) {
+    // For benchmarks against other implementations: the exact observations and our result, as
+    // raw little-endian float32 (light, camera: pixels x views x 3; rgb: pixels x views x 3;
+    // coefficients: pixels x 3 x k), and their sizes in dump.txt.
+    const std::string dir = args.Get("dump");
+    std::filesystem::create_directories(dir);
+    const PixelObservations all = source.Rows(0, h);
+    auto write = [&](const std::string& name, const void* data, std::size_t bytes) {
+      std::FILE* f = std::fopen((dir + "/" + name).c_str(), "wb");
+      if (!f || std::fwrite(data, 1, bytes, f) != bytes)
+        throw UserError(dir + "/" + name, "cannot write", "check free disk space");
+      std::fclose(f);
+    };
+    write("light.f32", all.light.data(), all.light.size() * sizeof(Eigen::Vector3f));
+    write("camera.f32", all.camera.data(), all.camera.size() * sizeof(Eigen::Vector3f));
+    write("rgb.f32", all.rgb.data(), all.rgb.size() * sizeof(float));
+    const SvbrdfMap map = ReadSvbrdfMap(out);
+    std::vector<float> coefficients;
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x)
+        for (int c = 0; c < 3; ++c) {
+          const auto v = map.Coefficients(x, y, c);
+          coefficients.insert(coefficients.end(), v.begin(), v.end());
+        }
+    write("coefficients.f32", coefficients.data(), coefficients.size() * sizeof(float));
+    const std::string meta =
+        "pixels " + std::to_string(all.pixels) + "\nviews " + std::to_string(all.views) + "\nk " +
+        std::to_string(r.solve.components) + "\neta " + std::to_string(r.solve.eta) +
+        "\nsolve_seconds " + std::to_string(report.solve_seconds) + "\n";
+    write("dump.txt", meta.data(), meta.size());
+  }
+
   if (args.Has("score")) {
     // Against the ground truth: each pixel's grid log-space RMSE against its material's table.
     const SvbrdfMap map = ReadSvbrdfMap(out);

@@ -41,7 +41,8 @@ std::vector<std::pair<int, int>> Pixels(const Args& args) {
     try {
       out.emplace_back(std::stoi(parts[i]), std::stoi(parts[i + 1]));
     } catch (const std::exception&) {
-      throw UserError("--pixel", "expected integers X,Y, got '" + parts[i] + "," + parts[i + 1] + "'");
+      throw UserError("--pixel",
+                      "expected integers X,Y, got '" + parts[i] + "," + parts[i + 1] + "'");
     }
   }
   return out;
@@ -58,39 +59,50 @@ int RenderQuicklook(const Argv& argv) {
   const MapAndBasis m = Open(args);
   const std::string dir = args.Required("o");
   std::filesystem::create_directories(dir);
-  const RowLookup lookup = m.map.info.lookup == "interpolated" ? RowLookup::kInterpolated : RowLookup::kNearest;
+  const RowLookup lookup =
+      m.map.info.lookup == "interpolated" ? RowLookup::kInterpolated : RowLookup::kNearest;
   // Diffuse-looking: light 45 degrees off, camera overhead, far from the mirror direction.
   const ArmAngles diffuse{DegToRad(45), 0, 0, 0};
   // Specular: light and camera mirrored at 30 degrees (theta_h = 0).
   const ArmAngles specular{DegToRad(30), 0, DegToRad(30), kPi};
-  WritePng(RenderConfiguration(m.map, m.basis.View(), DirectionsOf(diffuse), lookup), dir + "/diffuse.png");
-  WritePng(RenderConfiguration(m.map, m.basis.View(), DirectionsOf(specular), lookup), dir + "/specular.png");
+  WritePng(RenderConfiguration(m.map, m.basis.View(), DirectionsOf(diffuse), lookup),
+           dir + "/diffuse.png");
+  WritePng(RenderConfiguration(m.map, m.basis.View(), DirectionsOf(specular), lookup),
+           dir + "/specular.png");
   for (const char* plane : {"valid", "observations", "condition", "residual"})
     WriteDiagnosticPng(m.map, plane, dir + "/" + plane + ".png");
-  std::printf("wrote %s/{diffuse,specular,valid,observations,condition,residual}.png\n", dir.c_str());
+  std::printf("wrote %s/{diffuse,specular,valid,observations,condition,residual}.png\n",
+              dir.c_str());
   return 0;
 }
 
 int RenderView(const Argv& argv) {
-  std::set<std::string> valued = {"map", "basis", "o", "light-theta-deg", "light-phi-deg",
-                                  "camera-theta-deg", "camera-phi-deg", "exposure"};
+  std::set<std::string> valued = {"map",
+                                  "basis",
+                                  "o",
+                                  "light-theta-deg",
+                                  "light-phi-deg",
+                                  "camera-theta-deg",
+                                  "camera-phi-deg",
+                                  "exposure"};
   valued.insert(kGeometryOptions.begin(), kGeometryOptions.end());
   const Args args("acq render view", argv, valued, {});
   const MapAndBasis m = Open(args);
   const ArmAngles arms{DegArg(args, "light-theta-deg", 30), DegArg(args, "light-phi-deg", 0),
                        DegArg(args, "camera-theta-deg", 0), DegArg(args, "camera-phi-deg", 0)};
   NearFieldGeometry g = GeometriesFrom(args)[0];
-  const RgbImage img = RenderView(m.map, m.basis.View(), arms, g,
-                                  m.map.info.lookup == "interpolated" ? RowLookup::kInterpolated
-                                                                      : RowLookup::kNearest);
+  const RgbImage img = RenderView(
+      m.map, m.basis.View(), arms, g,
+      m.map.info.lookup == "interpolated" ? RowLookup::kInterpolated : RowLookup::kNearest);
   WritePng(img, args.Required("o"), args.GetDouble("exposure", 0));
   std::printf("wrote %s\n", args.Get("o").c_str());
   return 0;
 }
 
 int RenderSpheres(const Argv& argv) {
-  const Args args("acq render spheres", argv,
-                  {"map", "basis", "o", "pixel", "size", "light-theta-deg", "light-phi-deg", "exposure"}, {});
+  const Args args(
+      "acq render spheres", argv,
+      {"map", "basis", "o", "pixel", "size", "light-theta-deg", "light-phi-deg", "exposure"}, {});
   const MapAndBasis m = Open(args);
   const double t = DegArg(args, "light-theta-deg", 45), p = DegArg(args, "light-phi-deg", 135);
   const Eigen::Vector3d light(std::sin(t) * std::cos(p), std::sin(t) * std::sin(p), std::cos(t));
