@@ -54,6 +54,8 @@ PixelObservations SyntheticObservations(const SyntheticSvbrdf& scene,
   g.sample_size_mm = scene.sample_size_mm;
   PixelObservations obs;
   obs.Resize(count, int(views.size()));
+  // Whole rows of the image: tiles of pixels can then share rows.
+  if (first % scene.width == 0 && count % scene.width == 0) obs.width = scene.width;
 #pragma omp parallel for schedule(dynamic, 64)
   for (int p = 0; p < count; ++p) {
     const int pixel = first + p;

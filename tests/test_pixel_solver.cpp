@@ -291,3 +291,26 @@ TEST_CASE("using a map: view render, MERL export and spheres follow the BRDF def
   CHECK_THROWS_WITH(RenderSpheres(map, basis, {{12, 0}}, {0, 0, 1}, 8, RowLookup::kNearest),
                     Catch::Contains("outside the map"));
 }
+
+TEST_CASE("rows shared by tiles equal per-pixel rows where the directions are the same",
+          "[pixel]") {
+  // A sample of size 0: every pixel sees the same directions, so sharing the tile centre's rows
+  // changes nothing, also for a pixel whose own views differ (it gets its own factorisation).
+  const Fixture& d = Data();
+  const sim::SyntheticSvbrdf scene = sim::MakeCardLayout(10, 9, 0.0, 4, 1);
+  PixelObservations obs =
+      sim::SyntheticObservations(scene, d.continuous, d.views, {}, 0, int(scene.label.size()));
+  REQUIRE(obs.width == 10);
+  obs.rgb[3 * obs.At(23, 4)] = std::numeric_limits<float>::quiet_NaN();
+  PixelSolveOptions per_pixel, tiled;
+  tiled.row_tile = 4;
+  PixelSolution a, b;
+  a.Resize(obs.pixels, 20);
+  b.Resize(obs.pixels, 20);
+  SolvePixels(d.basis.View(), obs, per_pixel, &a);
+  SolvePixels(d.basis.View(), obs, tiled, &b);
+  CHECK(b.observations[23] == 19);
+  for (std::size_t i = 0; i < a.coefficients.size(); ++i)
+    REQUIRE(b.coefficients[i] == Approx(a.coefficients[i]).margin(1e-6));
+  CHECK(a.valid == b.valid);
+}

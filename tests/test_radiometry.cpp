@@ -17,8 +17,8 @@ TEST_CASE("radiance to BRDF, hand computed", "[radiometry]") {
 }
 
 TEST_CASE("unusable inputs give NaN, never a number", "[radiometry]") {
-  CHECK(std::isnan(BrdfFromSpectralon(std::nan(""), 1.0)));  // saturated pixel
-  CHECK(std::isnan(BrdfFromSpectralon(1.0, 0.0)));           // board not lit
+  CHECK(std::isnan(BrdfFromSpectralon(std::nan(""), 1.0)));   // saturated pixel
+  CHECK(std::isnan(BrdfFromSpectralon(1.0, 0.0)));            // board not lit
   CHECK(std::isnan(BrdfFromPointLight(1.0, 1.0, 1.0, 0.0)));  // grazing light
   CHECK(std::isnan(BrdfFromPointLight(1.0, 0.0, 1.0, 0.5)));  // light off
 }

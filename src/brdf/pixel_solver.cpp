@@ -1,6 +1,7 @@
 #include "brdf/pixel_solver.h"
 
 #include <Eigen/Dense>
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -31,63 +32,125 @@ void PixelSolveOptions::Check(const BasisView& basis) const {
     throw UserError("--k", "must be in [1, " + std::to_string(basis.components) + "]");
   if (!(eta >= 0)) throw UserError("--eta", "must be >= 0", "the papers use 40");
   if (min_observations < 0) throw UserError("--min-observations", "must be >= 0");
+  if (row_tile < 1 || row_tile > 1024) throw UserError("--row-tile", "must be in [1, 1024]");
 }
+
+namespace {
+
+using RowMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+
+// The basis at one pixel's directions in every view.
+struct ViewRows {
+  std::vector<std::uint8_t> ok;
+  std::vector<BasisSample> samples;
+  RowMatrix rows;
+  void Sample(const BasisView& basis, const PixelObservations& obs, int pixel, int k,
+              RowLookup lookup) {
+    ok.assign(obs.views, 0);
+    samples.resize(obs.views);
+    rows.resize(obs.views, k);
+    std::vector<float> row(k);
+    for (int v = 0; v < obs.views; ++v) {
+      const std::size_t i = obs.At(pixel, v);
+      ok[v] = SampleBasis(basis, obs.light[i].cast<double>(), obs.camera[i].cast<double>(), k,
+                          lookup, row.data(), &samples[v]);
+      for (int c = 0; c < k; ++c) rows(v, c) = row[c];
+    }
+  }
+};
+
+// Factorisation of one set of sampled rows, reused while the set of views stays the same.
+struct Factor {
+  std::vector<std::uint8_t> views;  // which views the rows came from
+  Eigen::LLT<Eigen::MatrixXd> llt;
+  double condition = 0;
+  void Compute(const Eigen::Ref<const RowMatrix>& q, int k, double eta) {
+    const int n = int(q.rows());
+    Eigen::MatrixXd normal = Eigen::MatrixXd::Zero(k, k);
+    normal.selfadjointView<Eigen::Lower>().rankUpdate(q.transpose());
+    // The condition number needs only the eigenvalues (no vectors: several times cheaper); the
+    // solve is a Cholesky factorisation of the ridge-regularised normal matrix.
+    const Eigen::VectorXd ev =
+        Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(normal, Eigen::EigenvaluesOnly)
+            .eigenvalues();
+    condition = n < k || !(ev(0) > 0) ? std::numeric_limits<double>::infinity()
+                                      : std::sqrt(ev(k - 1) / ev(0));
+    normal.diagonal().array() += eta;
+    llt.compute(normal);
+  }
+};
+
+}  // namespace
 
 void SolvePixels(const BasisView& basis, const PixelObservations& obs,
                  const PixelSolveOptions& options, PixelSolution* solution, int first_pixel) {
   options.Check(basis);
   const int k = options.components;
   const int min_obs = options.MinObservations();
-  using RowMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+  // Work units: single pixels, or tiles of row_tile x row_tile pixels that share the rows of
+  // their centre pixel (the band's width says where rows of pixels wrap).
+  const int tile = obs.width > 0 ? options.row_tile : 1;
+  const int width = obs.width > 0 ? obs.width : obs.pixels;
+  const int height = (obs.pixels + width - 1) / width;
+  const int tiles_x = (width + tile - 1) / tile, tiles_y = (height + tile - 1) / tile;
 #pragma omp parallel
   {
-    RowMatrix qs(obs.views, k);
+    ViewRows shared;
+    Factor factor;
+    RowMatrix q(obs.views, k);
     Eigen::MatrixXd y(obs.views, 3);
-    std::vector<float> row(k);
-
-#pragma omp for schedule(dynamic, 64)
-    for (int p = 0; p < obs.pixels; ++p) {
-      int n = 0;
-      for (int v = 0; v < obs.views; ++v) {
-        const std::size_t i = obs.At(p, v);
-        const float* rgb = &obs.rgb[3 * i];
-        if (!(std::isfinite(rgb[0]) && std::isfinite(rgb[1]) && std::isfinite(rgb[2]))) continue;
-        BasisSample s;
-        if (!SampleBasis(basis, obs.light[i].cast<double>(), obs.camera[i].cast<double>(), k,
-                         options.lookup, row.data(), &s))
-          continue;
-        for (int c = 0; c < k; ++c) qs(n, c) = row[c];
-        for (int ch = 0; ch < 3; ++ch) y(n, ch) = MapBrdf(rgb[ch], s.cos_weight, s.ref) - s.mean;
-        ++n;
+    std::vector<std::uint8_t> used(obs.views);
+#pragma omp for schedule(dynamic, 16)
+    for (int t = 0; t < tiles_x * tiles_y; ++t) {
+      const int x0 = (t % tiles_x) * tile, y0 = (t / tiles_x) * tile;
+      const int x1 = std::min(x0 + tile, width), y1 = std::min(y0 + tile, height);
+      const int centre = std::min((y0 + y1) / 2 * width + (x0 + x1) / 2, obs.pixels - 1);
+      if (tile > 1) shared.Sample(basis, obs, centre, k, options.lookup);
+      factor.views.clear();
+      for (int py = y0; py < y1; ++py) {
+        for (int px = x0; px < x1; ++px) {
+          const int p = py * width + px;
+          if (p >= obs.pixels) continue;
+          if (tile == 1) {
+            shared.Sample(basis, obs, p, k, options.lookup);
+            factor.views.clear();
+          }
+          int n = 0;
+          for (int v = 0; v < obs.views; ++v) {
+            const float* rgb = &obs.rgb[3 * obs.At(p, v)];
+            used[v] = shared.ok[v] && std::isfinite(rgb[0]) && std::isfinite(rgb[1]) &&
+                      std::isfinite(rgb[2]);
+            if (!used[v]) continue;
+            const BasisSample& s = shared.samples[v];
+            q.row(n) = shared.rows.row(v);
+            for (int ch = 0; ch < 3; ++ch)
+              y(n, ch) = MapBrdf(rgb[ch], s.cos_weight, s.ref) - s.mean;
+            ++n;
+          }
+          const std::size_t out = std::size_t(first_pixel) + p;
+          solution->observations[out] = std::uint16_t(n);
+          float* coeff = &solution->coefficients[out * 3 * k];
+          if (n == 0) {
+            solution->valid[out] = 0;
+            solution->condition[out] = std::numeric_limits<float>::infinity();
+            continue;
+          }
+          if (factor.views != used) {
+            factor.Compute(q.topRows(n), k, options.eta);
+            factor.views = used;
+          }
+          const auto qn = q.topRows(n);
+          const Eigen::MatrixXd c = factor.llt.solve(qn.transpose() * y.topRows(n));
+          const double misfit = (qn * c - y.topRows(n)).squaredNorm();
+          const bool finite = c.allFinite() && std::isfinite(misfit);
+          for (int ch = 0; ch < 3; ++ch)
+            for (int j = 0; j < k; ++j) coeff[ch * k + j] = finite ? float(c(j, ch)) : 0.0f;
+          solution->condition[out] = float(factor.condition);
+          solution->residual[out] = finite ? float(std::sqrt(misfit / (3.0 * n))) : 0.0f;
+          solution->valid[out] =
+              finite && n >= min_obs && factor.condition <= options.max_condition;
+        }
       }
-      const std::size_t out = std::size_t(first_pixel) + p;
-      solution->observations[out] = std::uint16_t(n);
-      float* coeff = &solution->coefficients[out * 3 * k];
-      if (n == 0) {
-        solution->valid[out] = 0;
-        solution->condition[out] = std::numeric_limits<float>::infinity();
-        continue;
-      }
-      const auto q = qs.topRows(n);
-      Eigen::MatrixXd normal = Eigen::MatrixXd::Zero(k, k);
-      normal.selfadjointView<Eigen::Lower>().rankUpdate(q.transpose());
-      // The condition number needs only the eigenvalues (no vectors: several times cheaper);
-      // the solve is a Cholesky factorisation of the ridge-regularised normal matrix.
-      const Eigen::VectorXd ev =
-          Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(normal, Eigen::EigenvaluesOnly)
-              .eigenvalues();
-      const double condition = n < k || !(ev(0) > 0) ? std::numeric_limits<double>::infinity()
-                                                     : std::sqrt(ev(k - 1) / ev(0));
-      normal.diagonal().array() += options.eta;
-      const Eigen::LLT<Eigen::MatrixXd> factor(normal);
-      const Eigen::MatrixXd c = factor.solve(q.transpose() * y.topRows(n));
-      double misfit = (q * c - y.topRows(n)).squaredNorm();
-      bool finite = c.allFinite() && std::isfinite(misfit);
-      for (int ch = 0; ch < 3; ++ch)
-        for (int j = 0; j < k; ++j) coeff[ch * k + j] = finite ? float(c(j, ch)) : 0.0f;
-      solution->condition[out] = float(condition);
-      solution->residual[out] = finite ? float(std::sqrt(misfit / (3.0 * n))) : 0.0f;
-      solution->valid[out] = finite && n >= min_obs && condition <= options.max_condition;
     }
   }
 }

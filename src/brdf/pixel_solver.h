@@ -20,6 +20,7 @@ namespace acq {
 // (saturated, occluded, out of frame).
 struct PixelObservations {
   int pixels = 0, views = 0;
+  int width = 0;  // pixels per image row in this tile (0: unknown; rows cannot be shared)
   std::vector<Eigen::Vector3f> light, camera;  // pixels * views
   std::vector<float> rgb;                      // pixels * views * 3
 
@@ -48,6 +49,10 @@ struct PixelSolveOptions {
   // Pixels whose sampled rows are worse conditioned than this are still solved but not valid:
   // the ridge keeps them finite, not trustworthy.
   double max_condition = 1e4;
+  // 1: every pixel its own rows (exact near field). T > 1: the pixels of each T x T tile share
+  // the rows, mean, reference and cos weight at the tile centre's directions, and one
+  // factorisation: T^2 times fewer, at the cost of the near-field error within a tile.
+  int row_tile = 1;
   void Check(const BasisView& basis) const;  // throws UserError
   int MinObservations() const {
     return min_observations > 0 ? min_observations : (components + 1) / 2;

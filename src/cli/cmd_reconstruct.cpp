@@ -33,9 +33,10 @@ void ParseSize(const std::string& s, int* w, int* h) {
 
 int ReconstructSynthetic(const Argv& argv) {
   std::set<std::string> valued = {
-      "basis", "directions", "materials",        "materials-dir", "size",
-      "k",     "eta",        "lookup",           "band-rows",     "noise",
-      "seed",  "o",          "min-observations", "max-condition"};
+      "basis",   "directions", "materials",        "materials-dir", "size",
+      "k",       "eta",        "lookup",           "band-rows",     "noise",
+      "seed",    "o",          "min-observations", "max-condition", "dump",
+      "row-tile"};
   valued.insert(kGeometryOptions.begin(), kGeometryOptions.end());
   const Args args("acq reconstruct synthetic", argv, valued,
                   {"ignore-near-field", "truth-tables", "score", "quiet"});
@@ -86,6 +87,7 @@ int ReconstructSynthetic(const Argv& argv) {
   r.solve.min_observations = args.GetInt("min-observations", 0);
   r.solve.max_condition = args.GetDouble("max-condition", r.solve.max_condition);
   r.band_rows = args.GetInt("band-rows", r.band_rows);
+  r.solve.row_tile = args.GetInt("row-tile", 1);
   r.progress = !args.Has("quiet");
   SvbrdfMapInfo info;
   info.basis = basis_path;

@@ -1,0 +1,105 @@
+#!/usr/bin/python3
+"""Accuracy against time for the choices that cost time in the per-pixel reconstruction
+(issue 7): rows shared by tiles of pixels (1 = every pixel its own), nearest against
+interpolated rows, k, and threads; at fields of view of 4 and 10 degrees. Each point is one
+`acq reconstruct synthetic --score` run on a 512 x 512 card of four held-out materials with the
+seed's 20 directions: error is the median per-pixel log-space RMSE against the ground truth,
+time the solve alone. Writes out/bench/reconstruction/tradeoffs.{csv,png}.
+
+  /usr/bin/python3 tools/bench_reconstruction_tradeoffs.py [--size 512] [--build build]
+
+"Model no more than the scene needs": the suggested default is the cheapest setting whose error
+is within 0.5% of the most exact one (per-pixel interpolated rows) at each field of view; the
+chart marks it."""
+import argparse
+import csv
+import os
+import re
+import subprocess
+import sys
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+
+
+def run(acq, basis, fov, size, extra, threads=2):
+    env = dict(os.environ, OMP_NUM_THREADS=str(threads))
+    res = subprocess.run([acq, "reconstruct", "synthetic", "--basis", basis, "--directions",
+                          os.path.join(ROOT, "data", "directions", "seed_directions_20.tsv"),
+                          "--size", f"{size}x{size}", "--fov-deg", str(fov), "--truth-tables",
+                          "--score", "--quiet", "-o", "/tmp/acq-tradeoff.exr", *extra],
+                         capture_output=True, text=True, env=env)
+    if res.returncode:
+        sys.exit(res.stdout + res.stderr)
+    t = float(re.search(r"time: ([\d.]+) s solving", res.stdout).group(1))
+    e = float(re.search(r"ground truth: ([\d.]+)", res.stdout).group(1))
+    return t, e
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--size", type=int, default=512)
+    ap.add_argument("--build", default=os.path.join(ROOT, "build"))
+    ap.add_argument("--basis", default=os.path.join(ROOT, "out", "main", "basis90.acqb"))
+    ap.add_argument("--out", default=os.path.join(ROOT, "out", "bench", "reconstruction"))
+    a = ap.parse_args()
+    os.makedirs(a.out, exist_ok=True)
+    acq = os.path.join(a.build, "src", "cli", "acq")
+    if not os.path.exists(a.basis):
+        sys.exit(f"bench: no basis at {a.basis}: run tools/run-main.sh first (or give --basis)")
+    rows = []
+    for fov in (4, 10):
+        for lookup in ("nearest", "interpolated"):
+            for tile in (1, 2, 4, 8, 16, 32, 64):
+                t, e = run(acq, a.basis, fov, a.size, ["--lookup", lookup, "--row-tile", str(tile)])
+                rows.append((fov, lookup, tile, 20, 2, t, e))
+                print(f"fov {fov:2d} {lookup:12s} tile {tile:3d}: {t:6.2f} s, error {e:.4f}")
+        for k in (5, 10, 15):
+            t, e = run(acq, a.basis, fov, a.size, ["--k", str(k)])
+            rows.append((fov, "nearest", 1, k, 2, t, e))
+            print(f"fov {fov:2d} k {k}: {t:6.2f} s, error {e:.4f}")
+        t, e = run(acq, a.basis, fov, a.size, [], threads=1)
+        rows.append((fov, "nearest", 1, 20, 1, t, e))
+        print(f"fov {fov:2d} 1 thread: {t:6.2f} s, error {e:.4f}")
+    with open(os.path.join(a.out, "tradeoffs.csv"), "w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow(["fov_deg", "lookup", "row_tile", "k", "threads", "solve_s", "median_log_rmse"])
+        w.writerows(rows)
+
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    fig, axes = plt.subplots(1, 2, figsize=(12, 4.8))
+    mp = a.size * a.size / 1e6
+    for ax, fov in zip(axes, (4, 10)):
+        at = [r for r in rows if r[0] == fov]
+        exact = [r for r in at if r[1] == "interpolated" and r[2] == 1][0]
+        for lookup, colour in (("nearest", "tab:blue"), ("interpolated", "tab:orange")):
+            pts = sorted((r[5], r[6], r[2]) for r in at if r[1] == lookup and r[3] == 20 and r[4] == 2)
+            ax.plot([mp / p[0] for p in pts], [p[1] for p in pts], "o-", color=colour,
+                    label=f"{lookup} rows, tile 1..64 px")
+            for p in pts:
+                ax.annotate(str(p[2]), (mp / p[0], p[1]), fontsize=7, xytext=(3, 3),
+                            textcoords="offset points")
+        ks = [r for r in at if r[3] != 20]
+        ax.plot([mp / r[5] for r in ks], [r[6] for r in ks], "s", color="tab:green",
+                label="k = 5, 10, 15 (per pixel)")
+        one = [r for r in at if r[4] == 1][0]
+        ax.plot(mp / one[5], one[6], "^", color="tab:red", label="1 thread (per pixel)")
+        ok = [r for r in at if r[3] == 20 and r[4] == 2 and r[6] <= exact[6] * 1.005]
+        best = min(ok, key=lambda r: r[5])
+        ax.plot(mp / best[5], best[6], "k*", ms=16,
+                label=f"cheapest within 0.5%: {best[1]}, tile {best[2]}")
+        ax.axhline(exact[6] * 1.005, color="gray", ls=":", lw=1)
+        ax.set_xscale("log")
+        ax.set_xlabel("solve throughput (megapixels/s, log scale), 2 cores")
+        ax.set_ylabel("median per-pixel log-space RMSE")
+        ax.set_title(f"field of view {fov} deg, {a.size} x {a.size} card, n = k = 20")
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize=7)
+    fig.tight_layout()
+    fig.savefig(os.path.join(a.out, "tradeoffs.png"), dpi=100)
+    print(f"wrote {a.out}/tradeoffs.csv and tradeoffs.png")
+
+
+if __name__ == "__main__":
+    main()
