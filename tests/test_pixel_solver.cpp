@@ -69,6 +69,13 @@ double MedianPixelError(const sim::SyntheticSvbrdf& scene, const PixelSolution& 
   return Median(errors);
 }
 
+// Per-pixel rows unless a test says otherwise: the tests compare exact quantities.
+PixelSolveOptions PerPixel() {
+  PixelSolveOptions o;
+  o.row_tile = 1;
+  return o;
+}
+
 PixelSolution Solve(const sim::SyntheticSvbrdf& scene, const std::vector<sim::GroundTruth>& truth,
                     const sim::ObservationOptions& o, const PixelSolveOptions& solve) {
   const PixelObservations obs =
@@ -99,7 +106,7 @@ TEST_CASE("a vanishing field of view reproduces the homogeneous reconstruction",
   }
   const PixelObservations obs =
       sim::SyntheticObservations(scene, d.continuous, views, {}, 0, int(scene.label.size()));
-  PixelSolveOptions solve;
+  PixelSolveOptions solve = PerPixel();
   PixelSolution s;
   s.Resize(obs.pixels, solve.components);
   SolvePixels(d.basis.View(), obs, solve, &s);
@@ -136,7 +143,7 @@ TEST_CASE("per-pixel near field equals the closed-form field-of-view evaluation"
     for (int m = 0; m < 4; ++m) {
       sim::SyntheticSvbrdf scene = sim::MakeCardLayout(10, 10, fo.geometry.sample_size_mm, 1, 1);
       std::fill(scene.label.begin(), scene.label.end(), std::uint8_t(m));
-      const PixelSolution s = Solve(scene, d.tabulated, {}, PixelSolveOptions{});
+      const PixelSolution s = Solve(scene, d.tabulated, {}, PerPixel());
       for (int c = 0; c < 3; ++c) {
         double mean = 0;
         for (int p = 0; p < 100; ++p) {
@@ -157,7 +164,7 @@ TEST_CASE("a printed card at 10 degrees: ignoring the near field is clearly wors
   const double size = NearFieldGeometry::SampleSizeForFov(DegToRad(10), 1000);
   const sim::SyntheticSvbrdf scene = sim::MakeCardLayout(32, 32, size, 4, 3);
   sim::ObservationOptions o;
-  PixelSolveOptions nearest, interpolated;
+  PixelSolveOptions nearest = PerPixel(), interpolated = PerPixel();
   interpolated.lookup = RowLookup::kInterpolated;
   const double per_pixel = MedianPixelError(scene, Solve(scene, d.continuous, o, nearest), truth);
   const double interp = MedianPixelError(scene, Solve(scene, d.continuous, o, interpolated), truth);
@@ -176,7 +183,7 @@ TEST_CASE("bad observations are dropped per pixel; nothing writes NaN", "[pixel]
   const sim::SyntheticSvbrdf scene = sim::MakeCardLayout(6, 6, 10.0, 4, 1);
   PixelObservations obs =
       sim::SyntheticObservations(scene, d.continuous, d.views, {}, 0, int(scene.label.size()));
-  PixelSolveOptions solve;
+  PixelSolveOptions solve = PerPixel();
   PixelSolution clean;
   clean.Resize(obs.pixels, 20);
   SolvePixels(d.basis.View(), obs, solve, &clean);
@@ -226,6 +233,7 @@ TEST_CASE("the reconstruction job streams bands into a map that equals a direct 
   sim::SyntheticSource source(sim::MakeCardLayout(20, 13, 40.0, 4, 2), d.continuous, d.views, {});
   ReconstructionOptions r;
   r.band_rows = 5;  // 13 rows: bands of 5, 5, 3
+  r.solve.row_tile = 1;  // tiles stop at band edges; per-pixel rows make the bands invisible
   r.progress = false;
   test::TempDir dir;
   const ReconstructionReport report = Reconstruct(d.basis.View(), source, r, {}, dir / "m.exr");
@@ -235,7 +243,7 @@ TEST_CASE("the reconstruction job streams bands into a map that equals a direct 
         260);
   const SvbrdfMap map = ReadSvbrdfMap(dir / "m.exr");
   CHECK(map.info.pixel_size_mm == Approx(2.0));
-  const PixelSolution direct = Solve(source.scene(), d.continuous, {}, PixelSolveOptions{});
+  const PixelSolution direct = Solve(source.scene(), d.continuous, {}, r.solve);
   for (int y = 0; y < 13; ++y)
     for (int x = 0; x < 20; ++x) {
       const int p = y * 20 + x;
@@ -302,7 +310,7 @@ TEST_CASE("rows shared by tiles equal per-pixel rows where the directions are th
       sim::SyntheticObservations(scene, d.continuous, d.views, {}, 0, int(scene.label.size()));
   REQUIRE(obs.width == 10);
   obs.rgb[3 * obs.At(23, 4)] = std::numeric_limits<float>::quiet_NaN();
-  PixelSolveOptions per_pixel, tiled;
+  PixelSolveOptions per_pixel = PerPixel(), tiled;
   tiled.row_tile = 4;
   PixelSolution a, b;
   a.Resize(obs.pixels, 20);

@@ -52,7 +52,9 @@ struct PixelSolveOptions {
   // 1: every pixel its own rows (exact near field). T > 1: the pixels of each T x T tile share
   // the rows, mean, reference and cos weight at the tile centre's directions, and one
   // factorisation: T^2 times fewer, at the cost of the near-field error within a tile.
-  int row_tile = 1;
+  // Default 8: the cheapest setting within 0.5% of the exact error at 4 and 10 degrees
+  // (tools/bench_reconstruction_tradeoffs.py: within 0.1%, about 9x faster; docs/reconstruction.md).
+  int row_tile = 8;
   void Check(const BasisView& basis) const;  // throws UserError
   int MinObservations() const {
     return min_observations > 0 ? min_observations : (components + 1) / 2;

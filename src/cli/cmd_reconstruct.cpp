@@ -87,7 +87,7 @@ int ReconstructSynthetic(const Argv& argv) {
   r.solve.min_observations = args.GetInt("min-observations", 0);
   r.solve.max_condition = args.GetDouble("max-condition", r.solve.max_condition);
   r.band_rows = args.GetInt("band-rows", r.band_rows);
-  r.solve.row_tile = args.GetInt("row-tile", 1);
+  r.solve.row_tile = args.GetInt("row-tile", r.solve.row_tile);
   r.progress = !args.Has("quiet");
   SvbrdfMapInfo info;
   info.basis = basis_path;
