@@ -232,7 +232,7 @@ TEST_CASE("the reconstruction job streams bands into a map that equals a direct 
   const Fixture& d = Data();
   sim::SyntheticSource source(sim::MakeCardLayout(20, 13, 40.0, 4, 2), d.continuous, d.views, {});
   ReconstructionOptions r;
-  r.band_rows = 5;  // 13 rows: bands of 5, 5, 3
+  r.band_rows = 5;       // 13 rows: bands of 5, 5, 3
   r.solve.row_tile = 1;  // tiles stop at band edges; per-pixel rows make the bands invisible
   r.progress = false;
   test::TempDir dir;

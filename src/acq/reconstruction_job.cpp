@@ -14,8 +14,8 @@ void ReconstructionOptions::Check(const BasisView& basis) const {
   // Tiles that share rows never cross a band: keep whole tiles in a band, so the result does
   // not depend on how the image is streamed.
   if (band_rows % solve.row_tile != 0)
-    throw UserError("--band-rows", "must be a multiple of --row-tile (" +
-                                       std::to_string(solve.row_tile) + ")",
+    throw UserError("--band-rows",
+                    "must be a multiple of --row-tile (" + std::to_string(solve.row_tile) + ")",
                     "e.g. --band-rows 64 with --row-tile 8");
 }
 

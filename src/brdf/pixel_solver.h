@@ -53,7 +53,8 @@ struct PixelSolveOptions {
   // the rows, mean, reference and cos weight at the tile centre's directions, and one
   // factorisation: T^2 times fewer, at the cost of the near-field error within a tile.
   // Default 8: the cheapest setting within 0.5% of the exact error at 4 and 10 degrees
-  // (tools/bench_reconstruction_tradeoffs.py: within 0.1%, about 9x faster; docs/reconstruction.md).
+  // (tools/bench_reconstruction_tradeoffs.py: within 0.1%, about 9x faster;
+  // docs/reconstruction.md).
   int row_tile = 8;
   void Check(const BasisView& basis) const;  // throws UserError
   int MinObservations() const {
