@@ -98,6 +98,8 @@ void PrintUsage(FILE* to) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  // Line-buffered stdout keeps results and warnings (stderr) in order in a shared log.
+  std::setvbuf(stdout, nullptr, _IOLBF, 0);
   if (argc < 2 || !std::strcmp(argv[1], "--help") || !std::strcmp(argv[1], "-h")) {
     PrintUsage(argc < 2 ? stderr : stdout);
     return argc < 2 ? 2 : 0;
