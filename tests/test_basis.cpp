@@ -10,6 +10,7 @@
 #include "brdf/evaluation.h"
 #include "brdf/log_mapping.h"
 #include "core/error.h"
+#include "issue_split.h"
 #include "test_helpers.h"
 
 using namespace acq;
@@ -151,13 +152,8 @@ struct IssueSplit {
 const IssueSplit& Issue() {
   static const IssueSplit data = [] {
     IssueSplit d;
-    HoldOut h;
-    h.every = 10;
-    h.offset = 5;
-    d.split = SplitMaterials(ListMaterials({test::DataPath("nbrdf/merl")}), h);
-    BasisOptions o;
-    o.progress = false;
-    d.basis = BuildBasis(d.split, o);
+    d.split = test::IssueSplit();
+    d.basis = test::IssueBasis(d.split);
     for (const auto& m : d.split.held_out) d.held.push_back(LoadMaterial(m));
     return d;
   }();

@@ -9,6 +9,7 @@
 #include "brdf/log_mapping.h"
 #include "brdf/pixel_solver.h"
 #include "core/angles.h"
+#include "issue_split.h"
 #include "sim/synthetic_svbrdf.h"
 #include "test_helpers.h"
 
@@ -30,13 +31,7 @@ struct Fixture {
 const Fixture& Data() {
   static const Fixture f = [] {
     Fixture d;
-    HoldOut h;
-    h.every = 10;
-    h.offset = 5;
-    const MaterialSplit split = SplitMaterials(ListMaterials({test::DataPath("nbrdf/merl")}), h);
-    BasisOptions o;
-    o.progress = false;
-    d.basis = BuildBasis(split, o);
+    d.basis = test::IssueBasis(test::IssueSplit());
     for (const auto& n : d.names) {
       const std::string path = test::DataPath("nbrdf/merl/" + n + ".h5");
       d.networks.push_back(NeuralBrdf::Load(path));

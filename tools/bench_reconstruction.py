@@ -13,14 +13,11 @@ number) and the ridge solve; its coefficients are checked against ours."""
 import argparse
 import csv
 import os
-import re
-import subprocess
-import sys
 import time
 
 import numpy as np
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+from synthetic_reconstruction import acq_from, add_common_options, reconstruct
 EPS = 1e-3
 
 
@@ -88,23 +85,12 @@ def bounds():
 
 def main():
     ap = argparse.ArgumentParser()
-    ap.add_argument("--size", type=int, default=256)
-    ap.add_argument("--build", default=os.path.join(ROOT, "build"))
-    ap.add_argument("--basis", default=os.path.join(ROOT, "out", "main", "basis90.acqb"))
-    ap.add_argument("--out", default=os.path.join(ROOT, "out", "bench", "reconstruction"))
+    add_common_options(ap, 256)
     a = ap.parse_args()
-    os.makedirs(a.out, exist_ok=True)
-    acq = os.path.join(a.build, "src", "cli", "acq")
-    if not os.path.exists(a.basis):
-        sys.exit(f"bench: no basis at {a.basis}: run tools/run-main.sh first (or give --basis)")
+    acq = acq_from(a)
     dump = os.path.join(a.out, "dump")
-    res = subprocess.run([acq, "reconstruct", "synthetic", "--basis", a.basis, "--directions",
-                          os.path.join(ROOT, "data", "directions", "seed_directions_20.tsv"),
-                          "--size", f"{a.size}x{a.size}", "--fov-deg", "4", "--truth-tables",
-                          "--quiet", "-o", os.path.join(a.out, "map.exr"), "--dump", dump],
-                         capture_output=True, text=True)
-    if res.returncode:
-        sys.exit(res.stdout + res.stderr)
+    reconstruct(acq, a.basis, a.size, 4, os.path.join(a.out, "map.exr"),
+                ["--row-tile", "1", "--dump", dump])
     meta = dict(line.split() for line in open(os.path.join(dump, "dump.txt")))
     pixels, views, k, eta = int(meta["pixels"]), int(meta["views"]), int(meta["k"]), float(meta["eta"])
     ours_s = float(meta["solve_seconds"])
@@ -119,12 +105,8 @@ def main():
     # Same answer? Relative difference of coefficient vectors (float32 storage on our side).
     diff = np.linalg.norm(coeff - ours, axis=-1) / np.maximum(np.linalg.norm(ours, axis=-1), 1e-12)
     # The same scene with rows shared by 8 x 8 tiles (one factorisation a tile).
-    res = subprocess.run([acq, "reconstruct", "synthetic", "--basis", a.basis, "--directions",
-                          os.path.join(ROOT, "data", "directions", "seed_directions_20.tsv"),
-                          "--size", f"{a.size}x{a.size}", "--fov-deg", "4", "--truth-tables",
-                          "--quiet", "-o", os.path.join(a.out, "map8.exr"), "--row-tile", "8"],
-                         capture_output=True, text=True)
-    tiled_s = float(re.search(r"time: ([\d.]+) s solving", res.stdout).group(1))
+    tiled_s, _ = reconstruct(acq, a.basis, a.size, 4, os.path.join(a.out, "map8.exr"),
+                             ["--row-tile", "8"])
     flops, bandwidth = bounds()
     # Arithmetic per pixel: normal matrix n k^2, eigenvalues ~(4/3) k^3 (tridiagonalisation)
     # plus ~30 k^2 for QR sweeps, Cholesky k^3/3, right-hand sides 2 n k 3, solves 2 k^2 3;

@@ -16,38 +16,23 @@ import argparse
 import csv
 import os
 import re
-import subprocess
 import sys
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+from synthetic_reconstruction import acq_from, add_common_options, reconstruct
 
 
 def run(acq, basis, fov, size, extra, threads=2):
-    env = dict(os.environ, OMP_NUM_THREADS=str(threads))
-    res = subprocess.run([acq, "reconstruct", "synthetic", "--basis", basis, "--directions",
-                          os.path.join(ROOT, "data", "directions", "seed_directions_20.tsv"),
-                          "--size", f"{size}x{size}", "--fov-deg", str(fov), "--truth-tables",
-                          "--score", "--quiet", "-o", "/tmp/acq-tradeoff.exr", *extra],
-                         capture_output=True, text=True, env=env)
-    if res.returncode:
-        sys.exit(res.stdout + res.stderr)
-    t = float(re.search(r"time: ([\d.]+) s solving", res.stdout).group(1))
-    e = float(re.search(r"ground truth: ([\d.]+)", res.stdout).group(1))
-    return t, e
+    t, out = reconstruct(acq, basis, size, fov, "/tmp/acq-tradeoff.exr", ["--score", *extra],
+                         threads)
+    return t, float(re.search(r"ground truth: ([\d.]+)", out).group(1))
 
 
 def main():
     ap = argparse.ArgumentParser()
-    ap.add_argument("--size", type=int, default=512)
-    ap.add_argument("--build", default=os.path.join(ROOT, "build"))
-    ap.add_argument("--basis", default=os.path.join(ROOT, "out", "main", "basis90.acqb"))
-    ap.add_argument("--out", default=os.path.join(ROOT, "out", "bench", "reconstruction"))
+    add_common_options(ap, 512)
     ap.add_argument("--from-csv", action="store_true", help="redraw the chart from tradeoffs.csv")
     a = ap.parse_args()
-    os.makedirs(a.out, exist_ok=True)
-    acq = os.path.join(a.build, "src", "cli", "acq")
-    if not os.path.exists(a.basis):
-        sys.exit(f"bench: no basis at {a.basis}: run tools/run-main.sh first (or give --basis)")
+    acq = acq_from(a)
     rows = []
     csv_path = os.path.join(a.out, "tradeoffs.csv")
     if a.from_csv:
@@ -61,10 +46,10 @@ def main():
                 rows.append((fov, lookup, tile, 20, 2, t, e))
                 print(f"fov {fov:2d} {lookup:12s} tile {tile:3d}: {t:6.2f} s, error {e:.4f}")
         for k in (5, 10, 15):
-            t, e = run(acq, a.basis, fov, a.size, ["--k", str(k)])
+            t, e = run(acq, a.basis, fov, a.size, ["--k", str(k), "--row-tile", "1"])
             rows.append((fov, "nearest", 1, k, 2, t, e))
             print(f"fov {fov:2d} k {k}: {t:6.2f} s, error {e:.4f}")
-        t, e = run(acq, a.basis, fov, a.size, [], threads=1)
+        t, e = run(acq, a.basis, fov, a.size, ["--row-tile", "1"], threads=1)
         rows.append((fov, "nearest", 1, 20, 1, t, e))
         print(f"fov {fov:2d} 1 thread: {t:6.2f} s, error {e:.4f}")
     with open(csv_path, "w", newline="") as f:
