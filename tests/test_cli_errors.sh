@@ -85,5 +85,27 @@ expect_error "impossible constraints" "satisfy the constraints" -- \
 expect_error "camera limit out of range" "--max-camera-zenith-deg" -- \
   "$acq" directions optimize --basis "$tmp/one.acqb" --n 3 --max-camera-zenith-deg 120 -o "$tmp/o.tsv"
 
+# Reconstruction and renders: a small map from the one-material basis, then bad uses of it.
+"$acq" basis build "$tmp/good" -o "$tmp/three.acqb" --components 3 --quiet >/dev/null
+"$acq" reconstruct synthetic --basis "$tmp/three.acqb" --directions "$data/directions/seed_directions_20.tsv" \
+  --materials-dir "$data/nbrdf/merl" --materials brass --size 16x16 --k 3 --quiet -o "$tmp/m.exr" >/dev/null \
+  || { failures=$((failures + 1)); echo "FAIL: small reconstruction"; }
+expect_error "unknown card material" "no-such-ink.h5" "no neural-BRDF fit" -- \
+  "$acq" reconstruct synthetic --basis "$tmp/three.acqb" --directions "$data/directions/seed_directions_20.tsv" \
+  --materials-dir "$data/nbrdf/merl" --materials no-such-ink --k 3 -o "$tmp/x.exr"
+expect_error "bad image size" "--size" "WIDTHxHEIGHT" -- \
+  "$acq" reconstruct synthetic --basis "$tmp/three.acqb" --directions "$data/directions/seed_directions_20.tsv" \
+  --materials-dir "$data/nbrdf/merl" --size 16by16 --k 3 -o "$tmp/x.exr"
+expect_error "band not a multiple of the tile" "--band-rows" "multiple of --row-tile" -- \
+  "$acq" reconstruct synthetic --basis "$tmp/three.acqb" --directions "$data/directions/seed_directions_20.tsv" \
+  --materials-dir "$data/nbrdf/merl" --materials brass --size 16x16 --k 3 --band-rows 12 -o "$tmp/x.exr"
+expect_error "render a file that is not a map" "below.tsv" "cannot read the SVBRDF map" -- \
+  "$acq" render quicklook --map "$tmp/below.tsv" -o "$tmp/q"
+expect_error "render with another basis" "one.acqb" "checksum differs" -- \
+  "$acq" render quicklook --map "$tmp/m.exr" --basis "$tmp/one.acqb" -o "$tmp/q"
+expect_error "sphere of a pixel outside the map" "--pixel 99,1" "outside the map" -- \
+  "$acq" render spheres --map "$tmp/m.exr" --pixel 99,1 -o "$tmp/s.png"
+[ ! -e "$tmp/x.exr" ] || { failures=$((failures + 1)); echo "FAIL: a failed reconstruction left a map"; }
+
 echo "$passed passed, $failures failed"
 [ "$failures" -eq 0 ]
