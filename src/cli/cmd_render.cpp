@@ -32,8 +32,8 @@ MapAndBasis Open(const Args& args) {
 
 std::vector<std::pair<int, int>> Pixels(const Args& args) {
   std::vector<std::pair<int, int>> out;
-  const auto it = args.Has("pixel");
-  if (!it) throw UserError("acq render", "missing --pixel X,Y", "repeat --pixel for several");
+  if (!args.Has("pixel"))
+    throw UserError("acq render", "missing --pixel X,Y", "repeat --pixel for several");
   // "X,Y" values: All() splits on commas, so pair them up.
   const std::vector<std::string> parts = args.All("pixel");
   if (parts.size() % 2) throw UserError("--pixel", "expected X,Y pairs");
