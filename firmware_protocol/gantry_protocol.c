@@ -20,7 +20,9 @@ static size_t put_u32(uint8_t* p, gp_u32 v) {
   p[3] = (uint8_t)(v >> 24);
   return 4;
 }
-static size_t put_i32(uint8_t* p, gp_i32 v) { return put_u32(p, (gp_u32)v); }
+static size_t put_i32(uint8_t* p, gp_i32 v) {
+  return put_u32(p, (gp_u32)v);
+}
 
 static size_t get_u8(const uint8_t* p, gp_u8* v) {
   *v = p[0];
@@ -77,10 +79,10 @@ static size_t encode_payload(const gp_message* m, uint8_t* p) {
   size_t n = 0;
   switch (m->id) {
 #define FIELD(type, name) n += put_##type(p + n, body->name);
-#define MESSAGE(name, id, fields)           \
-  case id: {                                \
+#define MESSAGE(name, id, fields)          \
+  case id: {                               \
     const gp_##name* body = &m->body.name; \
-    fields break;                           \
+    fields break;                          \
   }
 #include "gantry_messages.def"
 #undef MESSAGE
@@ -95,10 +97,10 @@ static void decode_payload(gp_message* m, const uint8_t* p) {
   size_t n = 0;
   switch (m->id) {
 #define FIELD(type, name) n += get_##type(p + n, &body->name);
-#define MESSAGE(name, id, fields)     \
-  case id: {                          \
+#define MESSAGE(name, id, fields)    \
+  case id: {                         \
     gp_##name* body = &m->body.name; \
-    fields break;                     \
+    fields break;                    \
   }
 #include "gantry_messages.def"
 #undef MESSAGE
@@ -161,15 +163,15 @@ size_t gp_encode(const gp_message* m, uint8_t* out, size_t capacity) {
 
 int gp_set_field(gp_message* m, const char* field, int64_t value) {
   switch (m->id) {
-#define FIELD(type, name)               \
-  if (strcmp(field, #name) == 0) {      \
-    body->name = (gp_##type)value;      \
-    return 1;                           \
+#define FIELD(type, name)          \
+  if (strcmp(field, #name) == 0) { \
+    body->name = (gp_##type)value; \
+    return 1;                      \
   }
-#define MESSAGE(name, id, fields)       \
-  case id: {                            \
-    gp_##name* body = &m->body.name;    \
-    fields break;                       \
+#define MESSAGE(name, id, fields)    \
+  case id: {                         \
+    gp_##name* body = &m->body.name; \
+    fields break;                    \
   }
 #include "gantry_messages.def"
 #undef MESSAGE
@@ -182,15 +184,15 @@ int gp_set_field(gp_message* m, const char* field, int64_t value) {
 
 int gp_get_field(const gp_message* m, const char* field, int64_t* value) {
   switch (m->id) {
-#define FIELD(type, name)               \
-  if (strcmp(field, #name) == 0) {      \
-    *value = (int64_t)body->name;       \
-    return 1;                           \
+#define FIELD(type, name)          \
+  if (strcmp(field, #name) == 0) { \
+    *value = (int64_t)body->name;  \
+    return 1;                      \
   }
-#define MESSAGE(name, id, fields)           \
-  case id: {                                \
+#define MESSAGE(name, id, fields)          \
+  case id: {                               \
     const gp_##name* body = &m->body.name; \
-    fields break;                           \
+    fields break;                          \
   }
 #include "gantry_messages.def"
 #undef MESSAGE
@@ -203,7 +205,9 @@ int gp_get_field(const gp_message* m, const char* field, int64_t* value) {
 
 /* ---- streaming decoder ---- */
 
-void gp_decoder_init(gp_decoder* d) { memset(d, 0, sizeof *d); }
+void gp_decoder_init(gp_decoder* d) {
+  memset(d, 0, sizeof *d);
+}
 
 static void drop(gp_decoder* d, size_t n) {
   memmove(d->buffer, d->buffer + n, d->length - n);

@@ -85,6 +85,9 @@ expect_error "impossible constraints" "satisfy the constraints" -- \
 expect_error "camera limit out of range" "--max-camera-zenith-deg" -- \
   "$acq" directions optimize --basis "$tmp/one.acqb" --n 3 --max-camera-zenith-deg 120 -o "$tmp/o.tsv"
 
+expect_error "plan a direction beyond the camera limit" "seed_directions_20.tsv:16" "camera zenith 65.1" -- \
+  "$acq" directions plan --directions "$data/directions/seed_directions_20.tsv"
+
 # Reconstruction and renders: a small map from the one-material basis, then bad uses of it.
 "$acq" basis build "$tmp/good" -o "$tmp/three.acqb" --components 3 --quiet >/dev/null
 "$acq" reconstruct synthetic --basis "$tmp/three.acqb" --directions "$data/directions/seed_directions_20.tsv" \

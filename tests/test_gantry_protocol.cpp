@@ -1,8 +1,8 @@
+#include <algorithm>
 #include <catch2/catch.hpp>
 #include <chrono>
 #include <cstring>
 #include <fstream>
-#include <algorithm>
 #include <random>
 #include <sstream>
 #include <string>
@@ -95,17 +95,19 @@ TEST_CASE("golden vectors: encoded byte for byte, decoded field for field", "[pr
 TEST_CASE("the decoder resyncs after garbage, partial and corrupt frames", "[protocol]") {
   const std::vector<Golden> golden = ReadGolden();
   std::vector<uint8_t> stream = {0x00, 0xA5, 0xA5, 0x13, 0xFF};  // garbage, false syncs
-  auto append = [&](const std::vector<uint8_t>& f) { stream.insert(stream.end(), f.begin(), f.end()); };
-  append(golden[6].frame);                                 // good
+  auto append = [&](const std::vector<uint8_t>& f) {
+    stream.insert(stream.end(), f.begin(), f.end());
+  };
+  append(golden[6].frame);                                         // good
   append({golden[8].frame.begin(), golden[8].frame.begin() + 5});  // partial
   std::vector<uint8_t> corrupt = golden[10].frame;
   corrupt[5] ^= 0x40;
-  append(corrupt);                                         // bad CRC
-  append(golden[12].frame);                                // good
+  append(corrupt);           // bad CRC
+  append(golden[12].frame);  // good
   std::vector<uint8_t> wrong_length = golden[14].frame;
   wrong_length[1] += 1;
-  append(wrong_length);                                    // length not the id's
-  append(golden[16].frame);                                // good
+  append(wrong_length);      // length not the id's
+  append(golden[16].frame);  // good
   gp_decoder d;
   gp_decoder_init(&d);
   const auto decoded = DecodeAll(stream, &d);
@@ -137,7 +139,8 @@ TEST_CASE("fuzzing the decoder: no crash, no invented message", "[protocol][fuzz
         std::vector<uint8_t> frame = golden[pick(rng)].frame;
         if (kind == 1 && !frame.empty()) frame[rng() % frame.size()] ^= uint8_t(1 << (rng() % 8));
         if (rng() % 4 == 0) frame.resize(rng() % (frame.size() + 1));
-        if (rng() % 4 == 0) frame.insert(frame.begin() + long(rng() % (frame.size() + 1)), uint8_t(byte(rng)));
+        if (rng() % 4 == 0)
+          frame.insert(frame.begin() + long(rng() % (frame.size() + 1)), uint8_t(byte(rng)));
         in.insert(in.end(), frame.begin(), frame.end());
       }
     }

@@ -35,6 +35,9 @@ for set in data/directions/seed_directions_20.tsv "$out/optimized20.tsv"; do
   $acq directions eval --basis "$out/basis90.acqb" --directions "$set" --fov-deg 0,4,10 data/nbrdf/merl
 done
 echo
+echo "== 2. the gantry's visiting order for the optimised directions =="
+$acq directions plan --directions "$out/optimized20.tsv" -o "$out/visiting_order.tsv"
+echo
 echo "== 3. synthetic card, 256 x 256 pixels, 4 degree field of view, per-pixel reconstruction =="
 $acq reconstruct synthetic --basis "$out/basis90.acqb" --directions "$out/optimized20.tsv" \
   --size 256x256 --fov-deg 4 -o "$out/card_svbrdf.exr" --score --quiet
@@ -53,6 +56,7 @@ echo "  eval_seed20.csv            per-material, per-channel errors, seed direct
 echo "  eval_random20.csv          the same for 20 random directions"
 echo "  recon_seed20/*.binary      reconstructed held-out BRDFs as MERL .binary (pbrt, Mitsuba)"
 echo "  optimized20.tsv            optimised directions with arm angles (docs/directions.md)"
+echo "  visiting_order.tsv         collision-free order and arm poses, with move times"
 echo "  card_svbrdf.exr            the card's SVBRDF map (docs/svbrdf-map.md)"
 echo "  quicklook/*.png            BRDF at a diffuse and a specular configuration, diagnostics"
 echo "  card_view.png              the card re-rendered under a new light and camera pose"

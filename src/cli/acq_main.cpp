@@ -56,6 +56,15 @@ const std::map<std::string, Command>& Commands() {
         "    [--noise-trials 8] [--csv FILE --label L]\n"
         "  Condition numbers and held-out log-space error over a field of view, each position\n"
         "  with its own true directions and rows (the near-field effect)."}},
+      {"directions plan",
+       {DirectionsPlan,
+        "acq directions plan --directions TSV [-o PLAN.tsv] [--theta-speed-deg-s 30]\n"
+        "    [--theta-accel-deg-s2 60] [--phi-speed-deg-s 30] [--phi-accel-deg-s2 60]\n"
+        "    [--settle-s 0.5] [--max-camera-zenith-deg 65] [--max-light-zenith-deg 85]\n"
+        "    [--min-separation-deg 20] [--azimuth-steps 72]\n"
+        "  Checks every direction against the gantry's reach and arm separation, then finds the\n"
+        "  shortest collision-free visiting order (choosing each pose's free azimuth) and its\n"
+        "  duration, against the file's order."}},
       {"reconstruct synthetic",
        {ReconstructSynthetic,
         "acq reconstruct synthetic --basis BASIS --directions TSV -o MAP.exr [--size 256x256]\n"

@@ -2,6 +2,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "acq/move_planner.h"
 #include "brdf/basis_file.h"
 #include "brdf/direction_optimizer.h"
 #include "brdf/directions.h"
@@ -194,6 +195,69 @@ int DirectionsEval(const Argv& argv) {
                          : "the directions do not pin down the coefficients and observation noise "
                            "is amplified");
       }
+    }
+  }
+  return 0;
+}
+
+}  // namespace acq::cli
+
+namespace acq::cli {
+
+int DirectionsPlan(const Argv& argv) {
+  const Args args("acq directions plan", argv,
+                  With({"directions", "o", "theta-speed-deg-s", "theta-accel-deg-s2",
+                        "phi-speed-deg-s", "phi-accel-deg-s2", "settle-s", "azimuth-steps"},
+                       kConstraintOptions),
+                  {});
+  const std::vector<Direction> directions = ReadDirectionsTsv(args.Required("directions"));
+  GantryMotion m;
+  m.theta.speed = DegToRad(args.GetDouble("theta-speed-deg-s", RadToDeg(m.theta.speed)));
+  m.theta.acceleration =
+      DegToRad(args.GetDouble("theta-accel-deg-s2", RadToDeg(m.theta.acceleration)));
+  m.phi.speed = DegToRad(args.GetDouble("phi-speed-deg-s", RadToDeg(m.phi.speed)));
+  m.phi.acceleration = DegToRad(args.GetDouble("phi-accel-deg-s2", RadToDeg(m.phi.acceleration)));
+  m.settle_s = args.GetDouble("settle-s", m.settle_s);
+  m.phi_h_steps = args.GetInt("azimuth-steps", m.phi_h_steps);
+  m.constraints = ConstraintsFrom(args);
+  m.Check();
+
+  const VisitPlan naive = PlanInFileOrder(directions, m);
+  std::vector<std::size_t> file_order(directions.size());
+  for (std::size_t i = 0; i < file_order.size(); ++i) file_order[i] = i;
+  const VisitPlan azimuths = PlanBestAzimuths(directions, file_order, m);
+  const VisitPlan best = PlanShortest(directions, m);
+
+  std::printf("visiting order (from home: light %g/%g, camera %g/%g deg):\n",
+              RadToDeg(m.home.light_theta), RadToDeg(m.home.light_phi),
+              RadToDeg(m.home.camera_theta), RadToDeg(m.home.camera_phi));
+  std::printf("%4s  %-28s %9s %9s %9s %9s %8s\n", "step", "direction", "light_th", "light_ph",
+              "cam_th", "cam_ph", "move_s");
+  for (std::size_t i = 0; i < best.poses.size(); ++i) {
+    const PlannedPose& p = best.poses[i];
+    std::printf("%4zu  %-28s %9.2f %9.2f %9.2f %9.2f %8.2f\n", i + 1,
+                directions[p.index].where.c_str(), RadToDeg(p.arms.light_theta),
+                RadToDeg(p.arms.light_phi), RadToDeg(p.arms.camera_theta),
+                RadToDeg(p.arms.camera_phi), p.move_s);
+  }
+  std::printf("\n%-44s %8s %8s\n", "plan", "total_s", "saving");
+  auto row = [&](const char* name, const VisitPlan& p) {
+    std::printf("%-44s %8.1f %7.1f%%\n", name, p.total_s,
+                100.0 * (1.0 - p.total_s / naive.total_s));
+  };
+  row("file order, phi_h = 0", naive);
+  row("file order, best azimuths", azimuths);
+  row("shortest order found, best azimuths", best);
+  if (args.Has("o")) {
+    std::ofstream f(args.Get("o"));
+    if (!f) throw UserError(args.Get("o"), "cannot create file");
+    f << "# visiting order from acq directions plan; total " << best.total_s << " s\n"
+      << "step\tsource\tlight_theta_deg\tlight_phi_deg\tcamera_theta_deg\tcamera_phi_deg\tmove_s\n";
+    for (std::size_t i = 0; i < best.poses.size(); ++i) {
+      const PlannedPose& p = best.poses[i];
+      f << i + 1 << "\t" << directions[p.index].where << "\t" << RadToDeg(p.arms.light_theta)
+        << "\t" << RadToDeg(p.arms.light_phi) << "\t" << RadToDeg(p.arms.camera_theta) << "\t"
+        << RadToDeg(p.arms.camera_phi) << "\t" << p.move_s << "\n";
     }
   }
   return 0;

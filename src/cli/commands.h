@@ -16,6 +16,7 @@ int MaterialConvert(const Argv& args);
 int DirectionsRandom(const Argv& args);
 int DirectionsOptimize(const Argv& args);
 int DirectionsEval(const Argv& args);
+int DirectionsPlan(const Argv& args);
 int ReconstructSynthetic(const Argv& args);
 int RenderQuicklook(const Argv& args);
 int RenderView(const Argv& args);

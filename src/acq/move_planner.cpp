@@ -1,0 +1,232 @@
+#include "acq/move_planner.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numeric>
+
+#include "core/angles.h"
+#include "core/error.h"
+
+namespace acq {
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+double AxisSeconds(double distance, const AxisLimits& l) {
+  const double d = std::abs(distance);
+  // Reaches cruise speed when the distance covers both ramps (v^2 / a), else a triangle profile.
+  if (d >= l.speed * l.speed / l.acceleration) return d / l.speed + l.speed / l.acceleration;
+  return 2 * std::sqrt(d / l.acceleration);
+}
+
+double WrapDelta(double a) { return std::remainder(a, 2 * kPi); }  // shortest way round
+
+// The arms of a direction with the half vector's azimuth rotated by phi_h.
+ArmAngles Rotated(const Direction& d, double phi_h) {
+  RusinkiewiczAngles a = d.angles;
+  a.phi_h = phi_h;
+  return ArmAnglesFor(a);
+}
+
+std::string Deg(double rad) { return std::to_string(int(std::lround(RadToDeg(rad)))); }
+
+}  // namespace
+
+void GantryMotion::Check() const {
+  for (const AxisLimits* l : {&theta, &phi})
+    if (!(l->speed > 0) || !(l->acceleration > 0))
+      throw UserError("gantry motion", "axis speeds and accelerations must be positive");
+  if (!(settle_s >= 0)) throw UserError("--settle-s", "must be >= 0");
+  if (phi_h_steps < 1) throw UserError("phi_h steps", "must be at least 1");
+  constraints.Check();
+}
+
+double GantryMotion::MoveSeconds(const ArmAngles& a, const ArmAngles& b) const {
+  return std::max({AxisSeconds(b.light_theta - a.light_theta, theta),
+                   AxisSeconds(WrapDelta(b.light_phi - a.light_phi), phi),
+                   AxisSeconds(b.camera_theta - a.camera_theta, theta),
+                   AxisSeconds(WrapDelta(b.camera_phi - a.camera_phi), phi)}) +
+         settle_s;
+}
+
+std::string GantryMotion::MoveViolation(const ArmAngles& a, const ArmAngles& b) const {
+  // All axes move together from start to end: sample the path finely (1 degree of the longest
+  // axis travel) and check the arms at every sample.
+  const double travel = std::max({std::abs(b.light_theta - a.light_theta),
+                                  std::abs(WrapDelta(b.light_phi - a.light_phi)),
+                                  std::abs(b.camera_theta - a.camera_theta),
+                                  std::abs(WrapDelta(b.camera_phi - a.camera_phi))});
+  const int steps = std::max(1, int(std::ceil(travel / DegToRad(1))));
+  for (int i = 0; i <= steps; ++i) {
+    const double t = double(i) / steps;
+    const ArmAngles p{a.light_theta + t * (b.light_theta - a.light_theta),
+                      a.light_phi + t * WrapDelta(b.light_phi - a.light_phi),
+                      a.camera_theta + t * (b.camera_theta - a.camera_theta),
+                      a.camera_phi + t * WrapDelta(b.camera_phi - a.camera_phi)};
+    const std::string why = constraints.Violation(p);
+    // The camera-zenith rule is about where images are taken, not about moving through.
+    if (!why.empty() && why.find("camera zenith") == std::string::npos) return why;
+  }
+  return {};
+}
+
+void CheckReachable(const std::vector<Direction>& directions, const GantryMotion& motion) {
+  motion.Check();
+  for (const Direction& d : directions) {
+    // phi_h does not change zeniths or the separation: one azimuth decides.
+    const std::string why = motion.constraints.Violation(Rotated(d, 0));
+    if (!why.empty())
+      throw UserError(d.where, "direction (theta_h " + Deg(d.angles.theta_h) + ", theta_d " +
+                                   Deg(d.angles.theta_d) + ", phi_d " + Deg(d.angles.phi_d) +
+                                   " deg) cannot be taken: " + why,
+                      "drop it, or re-plan the directions with `acq directions optimize` and the "
+                      "gantry's limits");
+  }
+}
+
+namespace {
+
+// Move times between (pose, azimuth) states, unsafe moves infinite; each computed at most once,
+// since the search costs many orders over the same moves.
+class RouteCosts {
+ public:
+  RouteCosts(const std::vector<Direction>& dirs, const GantryMotion& m)
+      : m_(m), steps_(m.phi_h_steps), states_(dirs.size() * std::size_t(steps_)) {
+    arms_.reserve(states_);
+    for (const Direction& d : dirs)
+      for (int s = 0; s < steps_; ++s) arms_.push_back(Rotated(d, 2 * kPi * s / steps_));
+    cache_.assign(states_ * states_, -1.0f);
+    home_.assign(states_, -1.0f);
+  }
+  int Steps() const { return steps_; }
+  const ArmAngles& Arms(std::size_t pose, int s) const { return arms_[State(pose, s)]; }
+  double FromHome(std::size_t pose, int s) {
+    return Cost(m_.home, Arms(pose, s), &home_[State(pose, s)]);
+  }
+  double Move(std::size_t a, int s, std::size_t b, int t) {
+    return Cost(Arms(a, s), Arms(b, t), &cache_[State(a, s) * states_ + State(b, t)]);
+  }
+
+ private:
+  std::size_t State(std::size_t pose, int s) const { return pose * std::size_t(steps_) + std::size_t(s); }
+  double Cost(const ArmAngles& a, const ArmAngles& b, float* slot) {
+    if (*slot < 0)
+      *slot = m_.MoveViolation(a, b).empty() ? float(m_.MoveSeconds(a, b))
+                                             : std::numeric_limits<float>::infinity();
+    return *slot;
+  }
+  const GantryMotion& m_;
+  int steps_;
+  std::size_t states_;
+  std::vector<ArmAngles> arms_;
+  std::vector<float> cache_, home_;
+};
+
+// Dynamic programming over the azimuths along a route: cost[i][s] is the least time to reach
+// the i-th pose at azimuth step s. Returns a plan with total_s = inf when no safe one exists.
+VisitPlan BestAzimuths(RouteCosts& costs, const std::vector<std::size_t>& order) {
+  const int steps = costs.Steps();
+  const std::size_t n = order.size();
+  VisitPlan plan;
+  if (n == 0) return plan;
+  std::vector<std::vector<double>> cost(n, std::vector<double>(steps, kInf));
+  std::vector<std::vector<int>> from(n, std::vector<int>(steps, -1));
+  for (int s = 0; s < steps; ++s) cost[0][s] = costs.FromHome(order[0], s);
+  for (std::size_t i = 1; i < n; ++i)
+    for (int s = 0; s < steps; ++s)
+      for (int r = 0; r < steps; ++r) {
+        if (cost[i - 1][r] == kInf) continue;
+        const double c = cost[i - 1][r] + costs.Move(order[i - 1], r, order[i], s);
+        if (c < cost[i][s]) cost[i][s] = c, from[i][s] = r;
+      }
+  int s = int(std::min_element(cost[n - 1].begin(), cost[n - 1].end()) - cost[n - 1].begin());
+  plan.total_s = cost[n - 1][s];
+  if (plan.total_s == kInf) return plan;
+  plan.poses.resize(n);
+  for (std::size_t i = n; i-- > 0;) {
+    const int prev = from[i][s];
+    const double move = i == 0 ? costs.FromHome(order[0], s)
+                               : costs.Move(order[i - 1], prev, order[i], s);
+    plan.poses[i] = {order[i], costs.Arms(order[i], s), move};
+    s = prev;
+  }
+  return plan;
+}
+
+VisitPlan RequireSafe(VisitPlan plan) {
+  if (plan.total_s == kInf)
+    throw UserError("move order", "no collision-free azimuths exist for this order",
+                    "check the arms' separation limit against the directions");
+  return plan;
+}
+
+}  // namespace
+
+VisitPlan PlanBestAzimuths(const std::vector<Direction>& dirs, const std::vector<std::size_t>& order,
+                           const GantryMotion& m) {
+  CheckReachable(dirs, m);
+  RouteCosts costs(dirs, m);
+  return RequireSafe(BestAzimuths(costs, order));
+}
+
+VisitPlan PlanInFileOrder(const std::vector<Direction>& dirs, const GantryMotion& m) {
+  VisitPlan plan;
+  ArmAngles at = m.home;
+  for (std::size_t i = 0; i < dirs.size(); ++i) {
+    const ArmAngles next = Rotated(dirs[i], 0);
+    plan.poses.push_back({i, next, m.MoveSeconds(at, next)});
+    plan.total_s += plan.poses.back().move_s;
+    at = next;
+  }
+  return plan;
+}
+
+VisitPlan PlanShortest(const std::vector<Direction>& dirs, const GantryMotion& m) {
+  CheckReachable(dirs, m);
+  const std::size_t n = dirs.size();
+  RouteCosts costs(dirs, m);
+  // Nearest neighbour over (pose, azimuth) states, then 2-opt with every candidate order costed
+  // exactly with its best azimuths.
+  std::vector<std::size_t> order;
+  std::vector<bool> used(n, false);
+  std::size_t at_pose = 0;
+  int at_s = -1;  // home
+  for (std::size_t k = 0; k < n; ++k) {
+    std::size_t best = n;
+    int best_s = 0;
+    double best_cost = kInf;
+    for (std::size_t j = 0; j < n; ++j) {
+      if (used[j]) continue;
+      for (int s = 0; s < costs.Steps(); ++s) {
+        const double c = at_s < 0 ? costs.FromHome(j, s) : costs.Move(at_pose, at_s, j, s);
+        if (c < best_cost) best_cost = c, best = j, best_s = s;
+      }
+    }
+    if (best == n) {  // nothing reachable safely from here: take the first left, DP decides
+      best = std::size_t(std::find(used.begin(), used.end(), false) - used.begin());
+    }
+    used[best] = true;
+    order.push_back(best);
+    at_pose = best;
+    at_s = best_s;
+  }
+  VisitPlan plan = BestAzimuths(costs, order);
+  for (bool improved = true; improved;) {
+    improved = false;
+    for (std::size_t i = 0; i + 1 < n; ++i)
+      for (std::size_t j = i + 1; j < n; ++j) {
+        std::vector<std::size_t> trial = order;
+        std::reverse(trial.begin() + long(i), trial.begin() + long(j) + 1);
+        const VisitPlan p = BestAzimuths(costs, trial);
+        if (p.total_s < plan.total_s - 1e-9) {
+          plan = p;
+          order = trial;
+          improved = true;
+        }
+      }
+  }
+  return RequireSafe(plan);
+}
+
+}  // namespace acq

@@ -1,0 +1,62 @@
+// Moving the gantry between poses (issue 5, kinematics): how long a move takes, whether it is
+// safe all the way, and the shortest safe order in which to visit a set of directions.
+//
+// Axes: light theta, light phi, camera theta, camera phi. Each moves with a trapezoidal speed
+// profile (accelerate, cruise, decelerate); the four move together and a move lasts as long as
+// its slowest axis, plus the settle time. Azimuths wrap: a move takes the shorter way round.
+// Isotropic BRDFs leave the azimuth of the half vector (phi_h) free: rotating both arms together
+// about the normal gives the same measurement, so the planner chooses it per pose to shorten
+// the moves.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "brdf/directions.h"
+#include "core/gantry_geometry.h"
+
+namespace acq {
+
+struct AxisLimits {
+  double speed = DegToRad(30);         // rad/s
+  double acceleration = DegToRad(60);  // rad/s^2
+};
+
+struct GantryMotion {
+  AxisLimits theta, phi;  // the same for both arms
+  double settle_s = 0.5;
+  DirectionConstraints constraints;  // reach and arm separation, checked at and between poses
+  ArmAngles home{DegToRad(45), 0, 0, 0};
+  int phi_h_steps = 72;  // azimuths tried per pose (every 5 degrees)
+
+  void Check() const;  // throws UserError
+  double MoveSeconds(const ArmAngles& from, const ArmAngles& to) const;
+  // Empty when every point of the straight move (in axis space) keeps the constraints, else why.
+  std::string MoveViolation(const ArmAngles& from, const ArmAngles& to) const;
+};
+
+struct PlannedPose {
+  std::size_t index;  // into the directions given
+  ArmAngles arms;
+  double move_s;      // from the previous pose (or home)
+};
+
+struct VisitPlan {
+  std::vector<PlannedPose> poses;
+  double total_s = 0;  // all moves and settles, home to the last pose
+};
+
+// Throws UserError naming the direction (its file:line) and the rule when a pose cannot be
+// reached or no azimuth keeps the arms apart.
+void CheckReachable(const std::vector<Direction>& directions, const GantryMotion& motion);
+
+// The directions in the given order, each at phi_h = 0 (what a naive run does).
+VisitPlan PlanInFileOrder(const std::vector<Direction>& directions, const GantryMotion& motion);
+// The given order, with the best phi_h for each pose (dynamic programming over the azimuths).
+VisitPlan PlanBestAzimuths(const std::vector<Direction>& directions,
+                           const std::vector<std::size_t>& order, const GantryMotion& motion);
+// The shortest order found: nearest neighbour, then 2-opt, each order costed with the best
+// azimuths. Deterministic.
+VisitPlan PlanShortest(const std::vector<Direction>& directions, const GantryMotion& motion);
+
+}  // namespace acq
