@@ -53,8 +53,8 @@ TEST_CASE("a move that sweeps one arm through the other is refused", "[planner]"
 TEST_CASE("unreachable directions are named with their line and rule", "[planner]") {
   const auto dirs = ReadDirectionsTsv(test::DataPath("directions/seed_directions_20.tsv"));
   GantryMotion m;  // camera <= 65, light <= 85
-  CHECK_THROWS_WITH(CheckReachable(dirs, m),
-                    Catch::Contains("seed_directions_20.tsv:16") && Catch::Contains("camera zenith 65.1"));
+  CHECK_THROWS_WITH(CheckReachable(dirs, m), Catch::Contains("seed_directions_20.tsv:16") &&
+                                                 Catch::Contains("camera zenith 65.1"));
   m.constraints.max_camera_zenith = DegToRad(66);
   CHECK_THROWS_WITH(CheckReachable(dirs, m),
                     Catch::Contains("seed_directions_20.tsv:22") && Catch::Contains("reach"));

@@ -13,14 +13,9 @@ namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
-double AxisSeconds(double distance, const AxisLimits& l) {
-  const double d = std::abs(distance);
-  // Reaches cruise speed when the distance covers both ramps (v^2 / a), else a triangle profile.
-  if (d >= l.speed * l.speed / l.acceleration) return d / l.speed + l.speed / l.acceleration;
-  return 2 * std::sqrt(d / l.acceleration);
-}
-
-double WrapDelta(double a) { return std::remainder(a, 2 * kPi); }  // shortest way round
+double WrapDelta(double a) {
+  return std::remainder(a, 2 * kPi);
+}  // shortest way round
 
 // The arms of a direction with the half vector's azimuth rotated by phi_h.
 ArmAngles Rotated(const Direction& d, double phi_h) {
@@ -29,7 +24,9 @@ ArmAngles Rotated(const Direction& d, double phi_h) {
   return ArmAnglesFor(a);
 }
 
-std::string Deg(double rad) { return std::to_string(int(std::lround(RadToDeg(rad)))); }
+std::string Deg(double rad) {
+  return std::to_string(int(std::lround(RadToDeg(rad))));
+}
 
 }  // namespace
 
@@ -43,10 +40,10 @@ void GantryMotion::Check() const {
 }
 
 double GantryMotion::MoveSeconds(const ArmAngles& a, const ArmAngles& b) const {
-  return std::max({AxisSeconds(b.light_theta - a.light_theta, theta),
-                   AxisSeconds(WrapDelta(b.light_phi - a.light_phi), phi),
-                   AxisSeconds(b.camera_theta - a.camera_theta, theta),
-                   AxisSeconds(WrapDelta(b.camera_phi - a.camera_phi), phi)}) +
+  return std::max({theta.Duration(b.light_theta - a.light_theta),
+                   phi.Duration(WrapDelta(b.light_phi - a.light_phi)),
+                   theta.Duration(b.camera_theta - a.camera_theta),
+                   phi.Duration(WrapDelta(b.camera_phi - a.camera_phi))}) +
          settle_s;
 }
 
@@ -77,9 +74,10 @@ void CheckReachable(const std::vector<Direction>& directions, const GantryMotion
     // phi_h does not change zeniths or the separation: one azimuth decides.
     const std::string why = motion.constraints.Violation(Rotated(d, 0));
     if (!why.empty())
-      throw UserError(d.where, "direction (theta_h " + Deg(d.angles.theta_h) + ", theta_d " +
-                                   Deg(d.angles.theta_d) + ", phi_d " + Deg(d.angles.phi_d) +
-                                   " deg) cannot be taken: " + why,
+      throw UserError(d.where,
+                      "direction (theta_h " + Deg(d.angles.theta_h) + ", theta_d " +
+                          Deg(d.angles.theta_d) + ", phi_d " + Deg(d.angles.phi_d) +
+                          " deg) cannot be taken: " + why,
                       "drop it, or re-plan the directions with `acq directions optimize` and the "
                       "gantry's limits");
   }
@@ -109,7 +107,9 @@ class RouteCosts {
   }
 
  private:
-  std::size_t State(std::size_t pose, int s) const { return pose * std::size_t(steps_) + std::size_t(s); }
+  std::size_t State(std::size_t pose, int s) const {
+    return pose * std::size_t(steps_) + std::size_t(s);
+  }
   double Cost(const ArmAngles& a, const ArmAngles& b, float* slot) {
     if (*slot < 0)
       *slot = m_.MoveViolation(a, b).empty() ? float(m_.MoveSeconds(a, b))
@@ -146,8 +146,8 @@ VisitPlan BestAzimuths(RouteCosts& costs, const std::vector<std::size_t>& order)
   plan.poses.resize(n);
   for (std::size_t i = n; i-- > 0;) {
     const int prev = from[i][s];
-    const double move = i == 0 ? costs.FromHome(order[0], s)
-                               : costs.Move(order[i - 1], prev, order[i], s);
+    const double move =
+        i == 0 ? costs.FromHome(order[0], s) : costs.Move(order[i - 1], prev, order[i], s);
     plan.poses[i] = {order[i], costs.Arms(order[i], s), move};
     s = prev;
   }
@@ -163,8 +163,8 @@ VisitPlan RequireSafe(VisitPlan plan) {
 
 }  // namespace
 
-VisitPlan PlanBestAzimuths(const std::vector<Direction>& dirs, const std::vector<std::size_t>& order,
-                           const GantryMotion& m) {
+VisitPlan PlanBestAzimuths(const std::vector<Direction>& dirs,
+                           const std::vector<std::size_t>& order, const GantryMotion& m) {
   CheckReachable(dirs, m);
   RouteCosts costs(dirs, m);
   return RequireSafe(BestAzimuths(costs, order));

@@ -14,16 +14,15 @@
 
 #include "brdf/directions.h"
 #include "core/gantry_geometry.h"
+#include "core/motion_profile.h"
 
 namespace acq {
 
-struct AxisLimits {
-  double speed = DegToRad(30);         // rad/s
-  double acceleration = DegToRad(60);  // rad/s^2
-};
+// Per-axis speed (rad/s) and acceleration (rad/s^2).
+using AxisLimits = TrapezoidProfile;
 
 struct GantryMotion {
-  AxisLimits theta, phi;  // the same for both arms
+  AxisLimits theta{DegToRad(30), DegToRad(60)}, phi{DegToRad(30), DegToRad(60)};  // both arms
   double settle_s = 0.5;
   DirectionConstraints constraints;  // reach and arm separation, checked at and between poses
   ArmAngles home{DegToRad(45), 0, 0, 0};
@@ -38,7 +37,7 @@ struct GantryMotion {
 struct PlannedPose {
   std::size_t index;  // into the directions given
   ArmAngles arms;
-  double move_s;      // from the previous pose (or home)
+  double move_s;  // from the previous pose (or home)
 };
 
 struct VisitPlan {

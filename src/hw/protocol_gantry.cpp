@@ -1,0 +1,185 @@
+#include "hw/protocol_gantry.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+
+#include "core/angles.h"
+#include "core/error.h"
+
+namespace acq {
+namespace {
+
+std::int32_t Mdeg(double rad) { return std::int32_t(std::lround(RadToDeg(rad) * 1000)); }
+double Rad(std::int32_t mdeg) { return DegToRad(mdeg / 1000.0); }
+
+const char* ResultText(std::uint8_t code) {
+  switch (code) {
+    case GP_BUSY: return "busy (the arms are still moving)";
+    case GP_NOT_HOMED: return "not homed";
+    case GP_OUT_OF_RANGE: return "target out of the arms' reach";
+    case GP_COLLISION: return "target would bring the arms too close (collision interlock)";
+    case GP_FAULT: return "a fault is latched";
+    case GP_LEASE_EXPIRED: return "the motion lease has expired";
+    case GP_BAD_REQUEST: return "bad request";
+    default: return "unknown result code";
+  }
+}
+
+std::string Hex(std::uint32_t v) {
+  char s[16];
+  std::snprintf(s, sizeof s, "0x%08x", v);
+  return s;
+}
+
+}  // namespace
+
+ProtocolGantry::ProtocolGantry(ByteTransport& transport, ProtocolGantryOptions options)
+    : transport_(transport), options_(options) {
+  gp_decoder_init(&decoder_);
+  gp_message hello{};
+  hello.id = GP_HELLO;
+  hello.body.HELLO = {GP_PROTOCOL_VERSION, gp_schema_hash()};
+  const gp_message reply = Request(hello, GP_HELLO_REPLY);
+  const gp_HELLO_REPLY& r = reply.body.HELLO_REPLY;
+  if (r.protocol_version != GP_PROTOCOL_VERSION || r.schema_hash != gp_schema_hash())
+    throw UserError("gantry",
+                    "firmware speaks protocol " + std::to_string(r.protocol_version) +
+                        " schema " + Hex(r.schema_hash) + ", this host " +
+                        std::to_string(GP_PROTOCOL_VERSION) + " schema " + Hex(gp_schema_hash()),
+                    "flash the firmware built from this tree's firmware_protocol/");
+  firmware_build_ = r.firmware_build;
+}
+
+gp_message ProtocolGantry::Request(gp_message request, std::uint8_t reply_id) {
+  request.sequence = sequence_++;
+  std::uint8_t frame[GP_MAX_FRAME];
+  const std::size_t n = gp_encode(&request, frame, sizeof frame);
+  for (int attempt = 0; attempt < options_.attempts; ++attempt) {
+    if (attempt > 0) ++retransmissions_;
+    transport_.Send(frame, n);
+    const auto deadline =
+        std::chrono::steady_clock::now() + std::chrono::milliseconds(options_.reply_timeout_ms);
+    for (;;) {
+      const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(
+                            deadline - std::chrono::steady_clock::now())
+                            .count();
+      if (left <= 0) break;
+      std::uint8_t buf[256];
+      const std::size_t got = transport_.Receive(buf, sizeof buf, int(left));
+      if (got == 0) break;  // the transport says nothing came in time
+      gp_message m;
+      for (std::size_t i = 0; i < got; ++i) {
+        int have = gp_decoder_push(&decoder_, buf[i], &m);
+        while (have) {
+          // Replies to older, retransmitted requests are stale: ignore them.
+          if (m.sequence == request.sequence && m.id == reply_id) return m;
+          have = gp_decoder_next(&decoder_, &m);
+        }
+      }
+    }
+  }
+  throw UserError("gantry",
+                  std::string("no answer to ") + gp_message_name(request.id) + " after " +
+                      std::to_string(options_.attempts) + " attempts",
+                  "check the USB cable and the gantry's power; the arms stop by themselves when "
+                  "the motion lease runs out");
+}
+
+void ProtocolGantry::Command(gp_message request) {
+  const gp_message reply = Request(request, GP_RESULT);
+  const std::uint8_t code = reply.body.RESULT.code;
+  if (code == GP_OK || (code == GP_DUPLICATE && request.id == GP_MOVE)) return;
+  throw UserError("gantry", std::string(gp_message_name(request.id)) + " refused: " + ResultText(code),
+                  code == GP_FAULT ? "read the fault bits with `acqctl status`, fix the cause, "
+                                     "then clear the fault"
+                                   : "");
+}
+
+void ProtocolGantry::Home() {
+  gp_message m{};
+  m.id = GP_HOME;
+  m.body.HOME.axes_mask = 0x0F;
+  Command(m);
+}
+
+void ProtocolGantry::MoveTo(const ArmAngles& t) {
+  gp_message m{};
+  m.id = GP_MOVE;
+  m.body.MOVE = {next_command_id_++, Mdeg(t.light_theta), Mdeg(t.light_phi), Mdeg(t.camera_theta),
+                 Mdeg(t.camera_phi)};
+  Command(m);
+}
+
+void ProtocolGantry::Stop() {
+  gp_message m{};
+  m.id = GP_STOP;
+  Command(m);
+}
+
+void ProtocolGantry::EmergencyStop() {
+  gp_message m{};
+  m.id = GP_ESTOP;
+  Command(m);
+}
+
+GantryStatus ProtocolGantry::Status() {
+  gp_message m{};
+  m.id = GP_GET_STATUS;
+  const gp_STATUS s = Request(m, GP_STATUS).body.STATUS;
+  GantryStatus out;
+  out.commanded = {Rad(s.light_theta_cmd_mdeg), Rad(s.light_phi_cmd_mdeg),
+                   Rad(s.camera_theta_cmd_mdeg), Rad(s.camera_phi_cmd_mdeg)};
+  out.measured = {Rad(s.light_theta_mdeg), Rad(s.light_phi_mdeg), Rad(s.camera_theta_mdeg),
+                  Rad(s.camera_phi_mdeg)};
+  out.moving_mask = s.moving_mask;
+  out.homed_mask = s.homed_mask;
+  out.limit_mask = s.limit_mask;
+  out.fault_bits = s.fault_bits;
+  out.device_clock_ms = s.device_clock_ms;
+  out.last_command_id = s.last_command_id;
+  return out;
+}
+
+void ProtocolGantry::SetLight(bool on, double level) {
+  if (!(level >= 0 && level <= 1)) throw UserError("light level", "must be in [0, 1]");
+  gp_message m{};
+  m.id = GP_LIGHT;
+  m.body.LIGHT = {std::uint8_t(on), std::uint16_t(std::lround(level * 1000))};
+  Command(m);
+}
+
+void ProtocolGantry::RenewLease(int ms) {
+  gp_message m{};
+  m.id = GP_LEASE;
+  m.body.LEASE.duration_ms = std::uint16_t(std::clamp(ms, 0, 65535));
+  Command(m);
+}
+
+void ProtocolGantry::ClearFaults(std::uint16_t bits) {
+  gp_message m{};
+  m.id = GP_CLEAR_FAULT;
+  m.body.CLEAR_FAULT.fault_bits = bits;
+  Command(m);
+}
+
+void MoveAndWait(Gantry& gantry, const ArmAngles& target, double timeout_s) {
+  gantry.RenewLease(2000);
+  gantry.MoveTo(target);
+  const auto start = std::chrono::steady_clock::now();
+  for (;;) {
+    const GantryStatus s = gantry.Status();
+    if (s.fault_bits)
+      throw UserError("gantry", "fault during the move (bits " + std::to_string(s.fault_bits) + ")",
+                      "the arms are stopped; check for an obstruction or a tripped limit, then "
+                      "clear the fault and resume");
+    if (!s.Moving()) return;
+    if (std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() > timeout_s)
+      throw UserError("gantry", "the arms did not arrive within " + std::to_string(timeout_s) + " s",
+                      "check the gantry; the lease stops the arms when not renewed");
+    gantry.RenewLease(2000);
+  }
+}
+
+}  // namespace acq
