@@ -6,13 +6,16 @@
 namespace acq::sim {
 namespace {
 
-std::int32_t Mdeg(double rad) { return std::int32_t(std::lround(RadToDeg(rad) * 1000)); }
-double Rad(std::int32_t mdeg) { return DegToRad(mdeg / 1000.0); }
+std::int32_t Mdeg(double rad) {
+  return std::int32_t(std::lround(RadToDeg(rad) * 1000));
+}
+double Rad(std::int32_t mdeg) {
+  return DegToRad(mdeg / 1000.0);
+}
 
 }  // namespace
 
-SimGantryFirmware::SimGantryFirmware(FirmwareOptions options)
-    : options_(options), rng_(1) {
+SimGantryFirmware::SimGantryFirmware(FirmwareOptions options) : options_(options), rng_(1) {
   Reset();
 }
 
@@ -139,7 +142,8 @@ gp_message SimGantryFirmware::Handle(const gp_message& m) {
       if (faults_) return Result(m, GP_FAULT);
       if (Moving()) return Result(m, GP_BUSY);
       const double home[4] = {DegToRad(45), 0, 0, 0};
-      for (int i = 0; i < 4; ++i) axes_[i] = {axes_[i].position, home[i], now_s_, axes_[i].position};
+      for (int i = 0; i < 4; ++i)
+        axes_[i] = {axes_[i].position, home[i], now_s_, axes_[i].position};
       homed_ = true;
       lease_until_s_ = std::max(lease_until_s_, now_s_ + 60.0);  // homing carries its own lease
       return Result(m, GP_OK);

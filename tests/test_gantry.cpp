@@ -63,7 +63,8 @@ TEST_CASE("lost and corrupted frames: retransmitted, recovered, no move executed
   o.reply_timeout_ms = 20;
   ProtocolGantry g(link, o);
   g.Home();
-  const ArmAngles targets[] = {kTarget, {DegToRad(60), DegToRad(10), DegToRad(35), DegToRad(-120)},
+  const ArmAngles targets[] = {kTarget,
+                               {DegToRad(60), DegToRad(10), DegToRad(35), DegToRad(-120)},
                                {DegToRad(30), 0, DegToRad(10), DegToRad(180)}};
   for (const ArmAngles& t : targets) {
     MoveAndWait(g, t, 20);
@@ -84,9 +85,10 @@ TEST_CASE("targets that collide or are out of reach are refused, naming the rule
   CHECK(fw.executed_moves() == 0);
 }
 
-TEST_CASE("a stalled axis, a tripped limit, an emergency stop and a lapsed lease each stop the "
-          "arms and latch a fault",
-          "[gantry]") {
+TEST_CASE(
+    "a stalled axis, a tripped limit, an emergency stop and a lapsed lease each stop the "
+    "arms and latch a fault",
+    "[gantry]") {
   sim::SimGantryFirmware fw;
   test::SimGantryLink link(fw);
   ProtocolGantry g(link);

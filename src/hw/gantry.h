@@ -26,7 +26,7 @@ class Gantry {
   virtual void Home() = 0;
   virtual void MoveTo(const ArmAngles& target) = 0;  // returns once accepted, not arrived
   virtual void Stop() = 0;
-  virtual void EmergencyStop() = 0;                  // accepted in every state
+  virtual void EmergencyStop() = 0;  // accepted in every state
   virtual GantryStatus Status() = 0;
   virtual void SetLight(bool on, double level) = 0;  // level in [0, 1]
   virtual void RenewLease(int milliseconds) = 0;

@@ -11,19 +11,31 @@
 namespace acq {
 namespace {
 
-std::int32_t Mdeg(double rad) { return std::int32_t(std::lround(RadToDeg(rad) * 1000)); }
-double Rad(std::int32_t mdeg) { return DegToRad(mdeg / 1000.0); }
+std::int32_t Mdeg(double rad) {
+  return std::int32_t(std::lround(RadToDeg(rad) * 1000));
+}
+double Rad(std::int32_t mdeg) {
+  return DegToRad(mdeg / 1000.0);
+}
 
 const char* ResultText(std::uint8_t code) {
   switch (code) {
-    case GP_BUSY: return "busy (the arms are still moving)";
-    case GP_NOT_HOMED: return "not homed";
-    case GP_OUT_OF_RANGE: return "target out of the arms' reach";
-    case GP_COLLISION: return "target would bring the arms too close (collision interlock)";
-    case GP_FAULT: return "a fault is latched";
-    case GP_LEASE_EXPIRED: return "the motion lease has expired";
-    case GP_BAD_REQUEST: return "bad request";
-    default: return "unknown result code";
+    case GP_BUSY:
+      return "busy (the arms are still moving)";
+    case GP_NOT_HOMED:
+      return "not homed";
+    case GP_OUT_OF_RANGE:
+      return "target out of the arms' reach";
+    case GP_COLLISION:
+      return "target would bring the arms too close (collision interlock)";
+    case GP_FAULT:
+      return "a fault is latched";
+    case GP_LEASE_EXPIRED:
+      return "the motion lease has expired";
+    case GP_BAD_REQUEST:
+      return "bad request";
+    default:
+      return "unknown result code";
   }
 }
 
@@ -45,9 +57,9 @@ ProtocolGantry::ProtocolGantry(ByteTransport& transport, ProtocolGantryOptions o
   const gp_HELLO_REPLY& r = reply.body.HELLO_REPLY;
   if (r.protocol_version != GP_PROTOCOL_VERSION || r.schema_hash != gp_schema_hash())
     throw UserError("gantry",
-                    "firmware speaks protocol " + std::to_string(r.protocol_version) +
-                        " schema " + Hex(r.schema_hash) + ", this host " +
-                        std::to_string(GP_PROTOCOL_VERSION) + " schema " + Hex(gp_schema_hash()),
+                    "firmware speaks protocol " + std::to_string(r.protocol_version) + " schema " +
+                        Hex(r.schema_hash) + ", this host " + std::to_string(GP_PROTOCOL_VERSION) +
+                        " schema " + Hex(gp_schema_hash()),
                     "flash the firmware built from this tree's firmware_protocol/");
   firmware_build_ = r.firmware_build;
 }
@@ -91,7 +103,8 @@ void ProtocolGantry::Command(gp_message request) {
   const gp_message reply = Request(request, GP_RESULT);
   const std::uint8_t code = reply.body.RESULT.code;
   if (code == GP_OK || (code == GP_DUPLICATE && request.id == GP_MOVE)) return;
-  throw UserError("gantry", std::string(gp_message_name(request.id)) + " refused: " + ResultText(code),
+  throw UserError("gantry",
+                  std::string(gp_message_name(request.id)) + " refused: " + ResultText(code),
                   code == GP_FAULT ? "read the fault bits with `acqctl status`, fix the cause, "
                                      "then clear the fault"
                                    : "");
@@ -176,7 +189,8 @@ void MoveAndWait(Gantry& gantry, const ArmAngles& target, double timeout_s) {
                       "clear the fault and resume");
     if (!s.Moving()) return;
     if (std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() > timeout_s)
-      throw UserError("gantry", "the arms did not arrive within " + std::to_string(timeout_s) + " s",
+      throw UserError("gantry",
+                      "the arms did not arrive within " + std::to_string(timeout_s) + " s",
                       "check the gantry; the lease stops the arms when not renewed");
     gantry.RenewLease(2000);
   }
