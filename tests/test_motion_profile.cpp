@@ -21,6 +21,6 @@ TEST_CASE("trapezoidal profile: ends where it should, never overshoots, continuo
       last = x;
     }
   }
-  CHECK(p.Duration(90) == Approx(90.0 / 30 + 30.0 / 60));  // cruise reached
+  CHECK(p.Duration(90) == Approx(90.0 / 30 + 30.0 / 60));     // cruise reached
   CHECK(p.Duration(10) == Approx(2 * std::sqrt(10.0 / 60)));  // triangle
 }
