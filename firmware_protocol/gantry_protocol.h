@@ -63,6 +63,15 @@ typedef struct {
   } body;
 } gp_message;
 
+/* The protocol's angle unit (millidegrees) from and to radians. */
+static inline int32_t gp_mdeg_from_rad(double rad) {
+  const double mdeg = rad * (180000.0 / 3.14159265358979323846);
+  return (int32_t)(mdeg < 0 ? mdeg - 0.5 : mdeg + 0.5);
+}
+static inline double gp_rad_from_mdeg(int32_t mdeg) {
+  return mdeg * (3.14159265358979323846 / 180000.0);
+}
+
 /* CRC-16/CCITT-FALSE: poly 0x1021, init 0xFFFF, no reflection, no final xor. */
 uint16_t gp_crc16(const uint8_t* data, size_t length);
 

@@ -4,16 +4,7 @@
 #include <cmath>
 
 namespace acq::sim {
-namespace {
-
-std::int32_t Mdeg(double rad) {
-  return std::int32_t(std::lround(RadToDeg(rad) * 1000));
-}
-double Rad(std::int32_t mdeg) {
-  return DegToRad(mdeg / 1000.0);
-}
-
-}  // namespace
+namespace {}  // namespace
 
 SimGantryFirmware::SimGantryFirmware(FirmwareOptions options) : options_(options), rng_(1) {
   Reset();
@@ -92,14 +83,14 @@ gp_message SimGantryFirmware::StatusMessage(std::uint8_t sequence) const {
   s.id = GP_STATUS;
   gp_STATUS& b = s.body.STATUS;
   b.device_clock_ms = std::uint32_t(now_s_ * 1000);
-  b.light_theta_cmd_mdeg = Mdeg(axes_[0].to);
-  b.light_phi_cmd_mdeg = Mdeg(axes_[1].to);
-  b.camera_theta_cmd_mdeg = Mdeg(axes_[2].to);
-  b.camera_phi_cmd_mdeg = Mdeg(axes_[3].to);
-  b.light_theta_mdeg = Mdeg(axes_[0].position);
-  b.light_phi_mdeg = Mdeg(axes_[1].position);
-  b.camera_theta_mdeg = Mdeg(axes_[2].position);
-  b.camera_phi_mdeg = Mdeg(axes_[3].position);
+  b.light_theta_cmd_mdeg = gp_mdeg_from_rad(axes_[0].to);
+  b.light_phi_cmd_mdeg = gp_mdeg_from_rad(axes_[1].to);
+  b.camera_theta_cmd_mdeg = gp_mdeg_from_rad(axes_[2].to);
+  b.camera_phi_cmd_mdeg = gp_mdeg_from_rad(axes_[3].to);
+  b.light_theta_mdeg = gp_mdeg_from_rad(axes_[0].position);
+  b.light_phi_mdeg = gp_mdeg_from_rad(axes_[1].position);
+  b.camera_theta_mdeg = gp_mdeg_from_rad(axes_[2].position);
+  b.camera_phi_mdeg = gp_mdeg_from_rad(axes_[3].position);
   b.moving_mask = Moving() ? 0x0F : 0;
   b.homed_mask = homed_ ? 0x0F : 0;
   b.limit_mask = (faults_ & kFaultLimit) ? 0x01 : 0;
@@ -155,8 +146,9 @@ gp_message SimGantryFirmware::Handle(const gp_message& m) {
       if (!homed_) return Result(m, GP_NOT_HOMED);
       if (Moving()) return Result(m, GP_BUSY);
       if (now_s_ > lease_until_s_) return Result(m, GP_LEASE_EXPIRED);
-      const ArmAngles target{Rad(mv.light_theta_mdeg), Rad(mv.light_phi_mdeg),
-                             Rad(mv.camera_theta_mdeg), Rad(mv.camera_phi_mdeg)};
+      const ArmAngles target{
+          gp_rad_from_mdeg(mv.light_theta_mdeg), gp_rad_from_mdeg(mv.light_phi_mdeg),
+          gp_rad_from_mdeg(mv.camera_theta_mdeg), gp_rad_from_mdeg(mv.camera_phi_mdeg)};
       const std::string why = options_.limits.Violation(target);
       if (!why.empty())
         return Result(m, why.find("apart") != std::string::npos ? GP_COLLISION : GP_OUT_OF_RANGE);

@@ -56,6 +56,8 @@ PixelObservations SyntheticObservations(const SyntheticSvbrdf& scene,
   obs.Resize(count, int(views.size()));
   // Whole rows of the image: tiles of pixels can then share rows.
   if (first % scene.width == 0 && count % scene.width == 0) obs.width = scene.width;
+  std::vector<DirectionPair> far;  // each view's arm directions, once, not per pixel
+  for (const ArmAngles& v : views) far.push_back(DirectionsOf(v));
 #pragma omp parallel for schedule(dynamic, 64)
   for (int p = 0; p < count; ++p) {
     const int pixel = first + p;
@@ -64,9 +66,9 @@ PixelObservations SyntheticObservations(const SyntheticSvbrdf& scene,
     std::mt19937_64 rng(options.seed * 0x9E3779B97F4A7C15ull + std::uint64_t(pixel));
     std::normal_distribution<double> noise(0.0, 1.0);
     for (std::size_t v = 0; v < views.size(); ++v) {
-      const DirectionPair truth = g.DirectionsAt(views[v], point);
+      const DirectionPair truth = g.DirectionsAt(far[v], point);
       const std::size_t i = obs.At(p, int(v));
-      const DirectionPair label = options.centre_directions ? DirectionsOf(views[v]) : truth;
+      const DirectionPair label = options.centre_directions ? far[v] : truth;
       obs.light[i] = label.in.cast<float>();
       obs.camera[i] = label.out.cast<float>();
       if (!AboveHorizon(truth)) continue;  // stays NaN: missing

@@ -90,7 +90,7 @@ TEST_CASE("field-of-view-aware optimisation keeps every position within the hori
   REQUIRE(result.directions.size() == 6);
   for (const Direction& d : result.directions)
     for (const auto& p : o.geometry.Positions(o.fov_grid))
-      CHECK(AboveHorizon(o.geometry.DirectionsAt(ArmAnglesFor(d.angles), p)));
+      CHECK(AboveHorizon(o.geometry.DirectionsAt(DirectionsOf(ArmAnglesFor(d.angles)), p)));
 }
 
 TEST_CASE("impossible requests are refused with the reason", "[optimizer]") {

@@ -46,10 +46,10 @@ TEST_CASE("near field: the centre sees the arms' directions, corners see others"
   const auto positions = g.Positions(10);
   REQUIRE(positions.size() == 100);
   const ArmAngles arms{DegToRad(30), 0, 0, 0};  // camera overhead
-  const DirectionPair centre = g.DirectionsAt(arms, {0, 0});
+  const DirectionPair centre = g.DirectionsAt(DirectionsOf(arms), {0, 0});
   CHECK((centre.out - Eigen::Vector3d(0, 0, 1)).norm() < 1e-12);
   // A point at x = 50 mm sees the overhead camera 50/1000 rad off the normal, towards -x.
-  const DirectionPair off = g.DirectionsAt(arms, {50, 0});
+  const DirectionPair off = g.DirectionsAt(DirectionsOf(arms), {50, 0});
   CHECK(std::atan2(-off.out.x(), off.out.z()) == Approx(std::atan(0.05)).epsilon(1e-12));
   CHECK(NearFieldGeometry{}.Positions(10).size() == 1);  // no sample size: the centre only
 }

@@ -279,7 +279,7 @@ TEST_CASE("using a map: view render, MERL export and spheres follow the BRDF def
   const RgbImage view = RenderView(map, basis, arms, g, RowLookup::kNearest);
   const Eigen::Vector2d p((5 + 0.5 - 6) * map.info.pixel_size_mm,
                           (4 + 0.5 - 5) * map.info.pixel_size_mm);
-  const DirectionPair dirs = g.DirectionsAt(arms, p);
+  const DirectionPair dirs = g.DirectionsAt(DirectionsOf(arms), p);
   const auto rho =
       BrdfFromCoefficients(basis, c.data(), 20, dirs.in, dirs.out, RowLookup::kNearest);
   const double r2 =

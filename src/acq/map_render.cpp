@@ -10,10 +10,6 @@
 namespace acq {
 namespace {
 
-RowLookup LookupOf(const SvbrdfMap& map) {
-  return map.info.lookup == "interpolated" ? RowLookup::kInterpolated : RowLookup::kNearest;
-}
-
 // The map's coefficients of a pixel, R then G then B.
 std::vector<float> PixelCoefficients(const SvbrdfMap& map, int x, int y) {
   std::vector<float> all;
@@ -51,7 +47,7 @@ RgbImage RenderView(const SvbrdfMap& map, const BasisView& basis, const ArmAngle
   for (int y = 0; y < img.height; ++y) {
     for (int x = 0; x < img.width; ++x) {
       const Eigen::Vector2d p = PointOf(map, x, y);
-      const DirectionPair d = geometry.DirectionsAt(arms, p);
+      const DirectionPair d = geometry.DirectionsAt(far, p);
       const double r_m = (light_pos - Eigen::Vector3d(p.x(), p.y(), 0)).norm() / 1000.0;
       const std::vector<float> c = PixelCoefficients(map, x, y);
       const auto rho =
@@ -135,6 +131,10 @@ MerlBrdf PixelAsMerl(const SvbrdfMap& map, const BasisView& basis, int x, int y)
     for (int ch = 0; ch < 3; ++ch) out.SetValue(ch, bin, rho[ch]);
   }
   return out;
+}
+
+RowLookup MapRowLookup(const SvbrdfMap& map) {
+  return map.info.lookup == "interpolated" ? RowLookup::kInterpolated : RowLookup::kNearest;
 }
 
 void WritePng(const RgbImage& image, const std::string& path, double exposure) {

@@ -37,6 +37,9 @@ RgbImage RenderSpheres(const SvbrdfMap& map, const BasisView& basis,
 // A pixel's reconstructed BRDF tabulated on the MERL grid (masked bins -1).
 MerlBrdf PixelAsMerl(const SvbrdfMap& map, const BasisView& basis, int x, int y);
 
+// The row lookup a map was reconstructed with (its acqRowLookup attribute).
+RowLookup MapRowLookup(const SvbrdfMap& map);
+
 // Linear image to an 8-bit sRGB PNG; `exposure` scales first, 0 picks it so that the 99th
 // percentile maps to 0.9. Throws UserError naming the file when it cannot be written.
 void WritePng(const RgbImage& image, const std::string& path, double exposure = 0);

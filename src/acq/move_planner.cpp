@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <numeric>
 
 #include "core/angles.h"
 #include "core/error.h"
@@ -25,7 +24,7 @@ ArmAngles Rotated(const Direction& d, double phi_h) {
 }
 
 std::string Deg(double rad) {
-  return std::to_string(int(std::lround(RadToDeg(rad))));
+  return DegString(rad, 0);
 }
 
 }  // namespace

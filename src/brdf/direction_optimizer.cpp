@@ -30,9 +30,10 @@ class AllowedBins {
       if (!basis.valid[b]) continue;
       const ArmAngles arms = ArmAnglesFor(merl::BinCentre(merl::BinFromFlat(b)));
       if (!o.constraints.Violation(arms).empty()) continue;
+      const DirectionPair far = DirectionsOf(arms);
       bool ok = true;
       for (std::size_t p = 0; p < np && np > 1; ++p) {
-        const DirectionPair d = o.geometry.DirectionsAt(arms, positions_[p]);
+        const DirectionPair d = o.geometry.DirectionsAt(far, positions_[p]);
         const std::size_t pb = merl::BinOf(RusinkiewiczFromDirections(d.in, d.out)).Flat();
         ok = ok && AboveHorizon(d) && basis.valid[pb];
         position_bins_[b * np + p] = std::uint32_t(pb);

@@ -13,10 +13,7 @@ namespace acq {
 namespace {
 
 std::string Deg(double rad) {
-  std::ostringstream s;
-  s.precision(4);
-  s << RadToDeg(rad);
-  return s.str();
+  return DegString(rad, 1);
 }
 
 // Throws when a direction is below the horizon or lands in a masked bin.

@@ -54,8 +54,8 @@ FovResult EvaluateOverFov(const HeldOutSet& h, const std::vector<Direction>& dir
   o.ridge.Check(basis);
   const int k = o.ridge.components;
   const std::vector<Eigen::Vector2d> positions = o.geometry.Positions(o.grid);
-  std::vector<ArmAngles> arms;
-  for (const Direction& d : directions) arms.push_back(ArmAnglesFor(d.angles));
+  std::vector<DirectionPair> arms;  // far-field directions of each pose's arms
+  for (const Direction& d : directions) arms.push_back(DirectionsOf(ArmAnglesFor(d.angles)));
   const std::vector<std::size_t> centre_bins = BinsOf(directions);
 
   FovResult result;

@@ -200,10 +200,6 @@ int DirectionsEval(const Argv& argv) {
   return 0;
 }
 
-}  // namespace acq::cli
-
-namespace acq::cli {
-
 int DirectionsPlan(const Argv& argv) {
   const Args args("acq directions plan", argv,
                   With({"directions", "o", "theta-speed-deg-s", "theta-accel-deg-s2",

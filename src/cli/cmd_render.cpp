@@ -59,8 +59,7 @@ int RenderQuicklook(const Argv& argv) {
   const MapAndBasis m = Open(args);
   const std::string dir = args.Required("o");
   std::filesystem::create_directories(dir);
-  const RowLookup lookup =
-      m.map.info.lookup == "interpolated" ? RowLookup::kInterpolated : RowLookup::kNearest;
+  const RowLookup lookup = MapRowLookup(m.map);
   // Diffuse-looking: light 45 degrees off, camera overhead, far from the mirror direction.
   const ArmAngles diffuse{DegToRad(45), 0, 0, 0};
   // Specular: light and camera mirrored at 30 degrees (theta_h = 0).
@@ -91,9 +90,7 @@ int RenderView(const Argv& argv) {
   const ArmAngles arms{DegArg(args, "light-theta-deg", 30), DegArg(args, "light-phi-deg", 0),
                        DegArg(args, "camera-theta-deg", 0), DegArg(args, "camera-phi-deg", 0)};
   NearFieldGeometry g = GeometriesFrom(args)[0];
-  const RgbImage img = RenderView(
-      m.map, m.basis.View(), arms, g,
-      m.map.info.lookup == "interpolated" ? RowLookup::kInterpolated : RowLookup::kNearest);
+  const RgbImage img = RenderView(m.map, m.basis.View(), arms, g, MapRowLookup(m.map));
   WritePng(img, args.Required("o"), args.GetDouble("exposure", 0));
   std::printf("wrote %s\n", args.Get("o").c_str());
   return 0;
@@ -107,7 +104,7 @@ int RenderSpheres(const Argv& argv) {
   const double t = DegArg(args, "light-theta-deg", 45), p = DegArg(args, "light-phi-deg", 135);
   const Eigen::Vector3d light(std::sin(t) * std::cos(p), std::sin(t) * std::sin(p), std::cos(t));
   const RgbImage img = RenderSpheres(m.map, m.basis.View(), Pixels(args), light,
-                                     args.GetInt("size", 256), RowLookup::kNearest);
+                                     args.GetInt("size", 256), MapRowLookup(m.map));
   WritePng(img, args.Required("o"), args.GetDouble("exposure", 0));
   std::printf("wrote %s\n", args.Get("o").c_str());
   return 0;

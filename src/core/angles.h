@@ -2,6 +2,8 @@
 #pragma once
 
 #include <cmath>
+#include <cstdio>
+#include <string>
 
 namespace acq {
 
@@ -11,6 +13,13 @@ constexpr double DegToRad(double deg) {
 }
 constexpr double RadToDeg(double rad) {
   return rad * (180.0 / kPi);
+}
+
+// An angle in degrees with a fixed number of decimals, for messages to the user.
+inline std::string DegString(double rad, int decimals) {
+  char s[32];
+  std::snprintf(s, sizeof s, "%.*f", decimals, RadToDeg(rad));
+  return s;
 }
 
 }  // namespace acq

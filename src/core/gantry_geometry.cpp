@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <sstream>
 
 #include "core/angles.h"
 #include "core/error.h"
@@ -10,22 +9,12 @@
 namespace acq {
 namespace {
 
-Eigen::Vector3d ArmDirection(double theta, double phi) {
-  return {std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta)};
-}
-
-double Zenith(const Eigen::Vector3d& v) {
-  return std::atan2(v.head<2>().norm(), v.z());
-}
 double Azimuth(const Eigen::Vector3d& v) {
   return std::atan2(v.y(), v.x());
 }
 
 std::string Deg(double rad) {
-  std::ostringstream s;
-  s.precision(3);
-  s << std::fixed << RadToDeg(rad);
-  return s.str();
+  return DegString(rad, 3);
 }
 
 }  // namespace
@@ -33,12 +22,12 @@ std::string Deg(double rad) {
 ArmAngles ArmAnglesFor(const RusinkiewiczAngles& a) {
   DirectionPair d = DirectionsFromRusinkiewicz(a);
   if (d.out.z() < d.in.z()) std::swap(d.in, d.out);  // camera: the smaller zenith
-  return {Zenith(d.in), Azimuth(d.in), Zenith(d.out), Azimuth(d.out)};
+  return {ZenithOf(d.in), Azimuth(d.in), ZenithOf(d.out), Azimuth(d.out)};
 }
 
 DirectionPair DirectionsOf(const ArmAngles& arms) {
-  return {ArmDirection(arms.light_theta, arms.light_phi),
-          ArmDirection(arms.camera_theta, arms.camera_phi)};
+  return {SphericalDirection(arms.light_theta, arms.light_phi),
+          SphericalDirection(arms.camera_theta, arms.camera_phi)};
 }
 
 void DirectionConstraints::Check() const {
@@ -87,9 +76,8 @@ std::vector<Eigen::Vector2d> NearFieldGeometry::Positions(int grid, bool to_edge
   return out;
 }
 
-DirectionPair NearFieldGeometry::DirectionsAt(const ArmAngles& arms,
+DirectionPair NearFieldGeometry::DirectionsAt(const DirectionPair& far,
                                               const Eigen::Vector2d& p_in_sample) const {
-  const DirectionPair far = DirectionsOf(arms);
   const Eigen::Vector3d p(p_in_sample.x(), p_in_sample.y(), 0.0);
   return {(light_distance_mm * far.in - p).normalized(),
           (camera_distance_mm * far.out - p).normalized()};

@@ -53,8 +53,9 @@ struct NearFieldGeometry {
   // paper's uniformly sampled positions), or with `to_edges` from corner to corner, so the
   // extremes of the field of view are among them (what a constraint check needs).
   std::vector<Eigen::Vector2d> Positions(int grid, bool to_edges = false) const;
-  // Light and camera directions seen from p_in_sample (z = 0) for arms placed at `arms`.
-  DirectionPair DirectionsAt(const ArmAngles& arms, const Eigen::Vector2d& p_in_sample) const;
+  // Light and camera directions seen from p_in_sample (z = 0), for arms whose directions from
+  // the sample centre are `far` (DirectionsOf(arms); callers compute it once per pose).
+  DirectionPair DirectionsAt(const DirectionPair& far, const Eigen::Vector2d& p_in_sample) const;
 };
 
 }  // namespace acq

@@ -6,23 +6,21 @@
 namespace acq {
 namespace {
 
-Eigen::Vector3d SphericalToVector(double theta, double phi) {
-  return {std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta)};
-}
-
-// Zenith angle of a unit vector; atan2 keeps full precision near the pole, where acos loses
-// half the digits.
-double Zenith(const Eigen::Vector3d& v) {
-  return std::atan2(std::hypot(v.x(), v.y()), v.z());
-}
-
 // Below this the half vector is the normal to within rounding and its azimuth is noise.
 constexpr double kPoleTolerance = 1e-12;
 
 }  // namespace
 
+Eigen::Vector3d SphericalDirection(double theta, double phi) {
+  return {std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta)};
+}
+
+double ZenithOf(const Eigen::Vector3d& v) {
+  return std::atan2(std::hypot(v.x(), v.y()), v.z());
+}
+
 Eigen::Vector3d DifferenceVector(double theta_d, double phi_d) {
-  return SphericalToVector(theta_d, phi_d);
+  return SphericalDirection(theta_d, phi_d);
 }
 
 RusinkiewiczAngles RusinkiewiczFromDirections(const Eigen::Vector3d& in,
@@ -41,7 +39,7 @@ RusinkiewiczAngles RusinkiewiczFromDirections(const Eigen::Vector3d& in,
   const double x1 = cos_p * in.x() + sin_p * in.y();
   const double y1 = -sin_p * in.x() + cos_p * in.y();
   const Eigen::Vector3d diff(cos_h * x1 - sin_h * in.z(), y1, sin_h * x1 + cos_h * in.z());
-  a.theta_d = Zenith(diff);
+  a.theta_d = ZenithOf(diff);
   a.phi_d = std::atan2(diff.y(), diff.x());
   return a;
 }

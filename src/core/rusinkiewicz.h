@@ -34,6 +34,11 @@ DirectionPair DirectionsFromRusinkiewicz(const RusinkiewiczAngles& a);
 // True when both directions lie strictly above the surface (z > 0).
 bool AboveHorizon(const DirectionPair& d);
 
+// Unit vector at zenith theta, azimuth phi (z up), and the zenith angle of a vector; atan2 keeps
+// full precision near the pole, where acos loses half the digits.
+Eigen::Vector3d SphericalDirection(double theta, double phi);
+double ZenithOf(const Eigen::Vector3d& v);
+
 // The difference vector in the half-vector frame: the second half of the neural-BRDF input.
 Eigen::Vector3d DifferenceVector(double theta_d, double phi_d);
 

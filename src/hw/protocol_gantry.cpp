@@ -11,13 +11,6 @@
 namespace acq {
 namespace {
 
-std::int32_t Mdeg(double rad) {
-  return std::int32_t(std::lround(RadToDeg(rad) * 1000));
-}
-double Rad(std::int32_t mdeg) {
-  return DegToRad(mdeg / 1000.0);
-}
-
 const char* ResultText(std::uint8_t code) {
   switch (code) {
     case GP_BUSY:
@@ -120,8 +113,8 @@ void ProtocolGantry::Home() {
 void ProtocolGantry::MoveTo(const ArmAngles& t) {
   gp_message m{};
   m.id = GP_MOVE;
-  m.body.MOVE = {next_command_id_++, Mdeg(t.light_theta), Mdeg(t.light_phi), Mdeg(t.camera_theta),
-                 Mdeg(t.camera_phi)};
+  m.body.MOVE = {next_command_id_++, gp_mdeg_from_rad(t.light_theta), gp_mdeg_from_rad(t.light_phi),
+                 gp_mdeg_from_rad(t.camera_theta), gp_mdeg_from_rad(t.camera_phi)};
   Command(m);
 }
 
@@ -142,10 +135,11 @@ GantryStatus ProtocolGantry::Status() {
   m.id = GP_GET_STATUS;
   const gp_STATUS s = Request(m, GP_STATUS).body.STATUS;
   GantryStatus out;
-  out.commanded = {Rad(s.light_theta_cmd_mdeg), Rad(s.light_phi_cmd_mdeg),
-                   Rad(s.camera_theta_cmd_mdeg), Rad(s.camera_phi_cmd_mdeg)};
-  out.measured = {Rad(s.light_theta_mdeg), Rad(s.light_phi_mdeg), Rad(s.camera_theta_mdeg),
-                  Rad(s.camera_phi_mdeg)};
+  out.commanded = {gp_rad_from_mdeg(s.light_theta_cmd_mdeg), gp_rad_from_mdeg(s.light_phi_cmd_mdeg),
+                   gp_rad_from_mdeg(s.camera_theta_cmd_mdeg),
+                   gp_rad_from_mdeg(s.camera_phi_cmd_mdeg)};
+  out.measured = {gp_rad_from_mdeg(s.light_theta_mdeg), gp_rad_from_mdeg(s.light_phi_mdeg),
+                  gp_rad_from_mdeg(s.camera_theta_mdeg), gp_rad_from_mdeg(s.camera_phi_mdeg)};
   out.moving_mask = s.moving_mask;
   out.homed_mask = s.homed_mask;
   out.limit_mask = s.limit_mask;
