@@ -95,6 +95,39 @@ const std::map<std::string, Command>& Commands() {
        {RenderExport,
         "acq render export --map MAP.exr --pixel X,Y -o PIXEL.binary [--basis BASIS]\n"
         "  A pixel's BRDF as a MERL .binary (pbrt, Mitsuba)."}},
+      {"calibrate detect",
+       {CalibrateDetect,
+        "acq calibrate detect --images IMAGES... --board WxH --corners-cache OUT.vnl\n"
+        "    [--detector auto|mrgingham|opencv] [--quiet]\n"
+        "  Chessboard corners (WxH inner corners) in mrcal's corners-cache format."}},
+      {"calibrate intrinsics",
+       {CalibrateIntrinsics,
+        "acq calibrate intrinsics (--images IMAGES... | --corners-cache F) --board WxH\n"
+        "    --spacing-mm S -o CAMERA.cameramodel [--lensmodel LENSMODEL_OPENCV8|auto]\n"
+        "    [--focal-px F] [--imagersize W,H] [--detector auto|mrgingham|opencv]\n"
+        "    [--max-uncertainty-px 1] [--force] [--no-warp] [--no-outlier-rejection]\n"
+        "  Solves with mrcal in stages and reports residuals, outliers, worst images and the\n"
+        "  projection uncertainty; refuses to write a model whose uncertainty exceeds the limit.\n"
+        "  auto: the lens-model ladder, cross-validated (docs/lens-model-choice.md)."}},
+      {"calibrate extrinsics",
+       {CalibrateExtrinsics,
+        "acq calibrate extrinsics --camera CAMERA.cameramodel --board WxH --spacing-mm S\n"
+        "    --images IMAGES... -o VIEWS.tsv [--light-in-sample-mm X,Y,Z]\n"
+        "  cam_from_sample per image of the board lying in the sample plane (intrinsics locked)."}},
+      {"calibrate correspondence",
+       {CalibrateCorrespondence,
+        "acq calibrate correspondence --camera CAMERA.cameramodel --views VIEWS.tsv\n"
+        "    --reference NAME -o DIR [--region X0,Y0,W,H]\n"
+        "  Per view NNN.exr: where each reference pixel lands, whether visible, and its light\n"
+        "  and view directions (docs/calibration.md)."}},
+      {"calibrate synthesize",
+       {CalibrateSynthesize,
+        "acq calibrate synthesize -o DIR [--camera TRUTH.cameramodel] [--board 10x10]\n"
+        "    [--spacing-mm 25] [--n 30] [--noise-px 0.3] [--seed 1] [--min-distance-mm 300]\n"
+        "    [--max-distance-mm 600] [--max-tilt-deg 40] [--centre-spread 0.8]\n"
+        "    [--partial-boards] [--render]\n"
+        "  Boards seen by a known camera: truth.cameramodel, corners.vnl, poses.tsv and, with\n"
+        "  --render, the images."}},
   };
   return commands;
 }

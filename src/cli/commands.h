@@ -22,5 +22,10 @@ int RenderQuicklook(const Argv& args);
 int RenderView(const Argv& args);
 int RenderSpheres(const Argv& args);
 int RenderExport(const Argv& args);
+int CalibrateDetect(const Argv& args);
+int CalibrateIntrinsics(const Argv& args);
+int CalibrateExtrinsics(const Argv& args);
+int CalibrateCorrespondence(const Argv& args);
+int CalibrateSynthesize(const Argv& args);
 
 }  // namespace acq::cli

@@ -1,0 +1,7 @@
+// The one place mrcal's C headers enter C++: they lack extern "C" (DESIGN.md, "Conventions").
+// Include this, never <mrcal.h> directly.
+#pragma once
+
+extern "C" {
+#include <mrcal.h>
+}
