@@ -5,6 +5,8 @@
 #include <filesystem>
 #include <limits>
 
+#include <Eigen/Geometry>
+
 #include "core/error.h"
 
 namespace acq::calib {
@@ -32,32 +34,39 @@ int LensModelParams(const std::string& lensmodel, const std::string& where) {
   return mrcal_lensmodel_num_params(&m);
 }
 
+// Rotations through Eigen's angle-axis, not mrcal's r-composition, which is singular for
+// half turns (and the sample frame is a half turn from the board frame).
 Eigen::Matrix3d Pose::R() const {
-  double Rm[9];
-  mrcal_R_from_r(Rm, nullptr, r.data());
-  Eigen::Matrix3d out;
-  for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j) out(i, j) = Rm[3 * i + j];
-  return out;
+  const double angle = r.norm();
+  if (angle < 1e-300) return Eigen::Matrix3d::Identity();
+  return Eigen::AngleAxisd(angle, r / angle).toRotationMatrix();
 }
+
+namespace {
+Eigen::Vector3d RFromMatrix(const Eigen::Matrix3d& R) {
+  const Eigen::AngleAxisd aa(R);
+  return aa.axis() * aa.angle();
+}
+}  // namespace
 
 Eigen::Vector3d Pose::operator*(const Eigen::Vector3d& p) const {
   return R() * p + t;
 }
 
 Pose Pose::Inverse() const {
-  double rt[6], out[6];
-  ToRt(rt);
-  mrcal_invert_rt(out, nullptr, nullptr, rt);
-  return FromRt(out);
+  const Eigen::Matrix3d Rt = R().transpose();
+  Pose out;
+  out.r = RFromMatrix(Rt);
+  out.t = -(Rt * t);
+  return out;
 }
 
 Pose Pose::Compose(const Pose& b_from_c) const {
-  double a[6], b[6], out[6];
-  ToRt(a);
-  b_from_c.ToRt(b);
-  mrcal_compose_rt(out, nullptr, nullptr, nullptr, nullptr, a, b);
-  return FromRt(out);
+  const Eigen::Matrix3d Ra = R();
+  Pose out;
+  out.r = RFromMatrix(Ra * b_from_c.R());
+  out.t = Ra * b_from_c.t + t;
+  return out;
 }
 
 Pose Pose::FromRt(const double rt[6]) {

@@ -1,5 +1,6 @@
 #include "calib/detect_corners.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 
@@ -68,12 +69,24 @@ BoardObservation Opencv(const cv::Mat& grey, const BoardSpec& board) {
   std::vector<cv::Point2f> points;
   const cv::Size pattern(board.width_n, board.height_n);
   BoardObservation obs;
-  if (!cv::findChessboardCorners(grey, pattern, points,
-                                 cv::CALIB_CB_ADAPTIVE_THRESH | cv::CALIB_CB_NORMALIZE_IMAGE))
+  if (cv::findChessboardCorners(grey, pattern, points,
+                                cv::CALIB_CB_ADAPTIVE_THRESH | cv::CALIB_CB_NORMALIZE_IMAGE)) {
+    // Refine in a window as large as the squares allow (a larger window averages more edge
+    // pixels) but never reaching the neighbouring corners: 0.35 of the smallest spacing.
+    double spacing = 1e9;
+    for (int j = 0; j < board.height_n; ++j)
+      for (int i = 0; i + 1 < board.width_n; ++i)
+        spacing = std::min<double>(
+            spacing, cv::norm(points[j * board.width_n + i + 1] - points[j * board.width_n + i]));
+    const int half = std::clamp(static_cast<int>(0.35 * spacing), 2, 20);
+    cv::cornerSubPix(grey, points, cv::Size(half, half), cv::Size(-1, -1),
+                     cv::TermCriteria(cv::TermCriteria::EPS + cv::TermCriteria::COUNT, 100, 1e-4));
+  } else if (!cv::findChessboardCornersSB(grey, pattern, points,
+                                          cv::CALIB_CB_EXHAUSTIVE | cv::CALIB_CB_ACCURACY)) {
+    // The classic detector fails on some strongly distorted or blurred views; the
+    // sector-based one (sub-pixel by construction) is the fallback.
     return obs;
-  // Refine within a window well inside one square; the found corners are ~1 px off.
-  cv::cornerSubPix(grey, points, cv::Size(5, 5), cv::Size(-1, -1),
-                   cv::TermCriteria(cv::TermCriteria::EPS + cv::TermCriteria::COUNT, 50, 1e-3));
+  }
   for (const cv::Point2f& p : points) obs.corners.emplace_back(p.x, p.y, 1.0);
   return obs;
 }
