@@ -192,7 +192,8 @@ int CalibrateIntrinsics(const Argv& argv) {
 int CalibrateExtrinsics(const Argv& argv) {
   const Args args(
       "acq calibrate extrinsics", argv,
-      {"camera", "images", "board", "spacing-mm", "detector", "light-in-sample-mm", "o"},
+      {"camera", "images", "board", "spacing-mm", "detector", "light-in-sample-mm",
+       "corners-cache", "o"},
       {"quiet"});
   if (!args.Has("spacing-mm"))
     throw UserError("acq calibrate extrinsics", "missing --spacing-mm", "the square side in mm");
