@@ -110,5 +110,26 @@ expect_error "sphere of a pixel outside the map" "--pixel 99,1" "outside the map
   "$acq" render spheres --map "$tmp/m.exr" --pixel 99,1 -o "$tmp/s.png"
 [ ! -e "$tmp/x.exr" ] || { failures=$((failures + 1)); echo "FAIL: a failed reconstruction left a map"; }
 
+# calibrate: bad board text, no board in the images (wrong size), a cache of another board, an
+# unknown lens model, a missing camera model, and a model refused for its uncertainty.
+expect_error "calibrate: bad --board" "--board" "WxH" -- \
+  "$acq" calibrate intrinsics --board ten --spacing-mm 25 --corners-cache x.vnl -o "$tmp/c.cameramodel"
+"$acq" calibrate synthesize -o "$tmp/cal" --n 12 --render >/dev/null 2>&1
+expect_error "calibrate: wrong board size finds nothing" "0 of 12 images" "--board" -- \
+  "$acq" calibrate intrinsics --images "$tmp"/cal/board-00*.png "$tmp"/cal/board-01*.png --board 7x7 --spacing-mm 25 -o "$tmp/c.cameramodel"
+expect_error "calibrate: cache of another board" "corners.vnl:" "100 corner rows" -- \
+  "$acq" calibrate intrinsics --corners-cache "$tmp/cal/corners.vnl" --board 9x6 --spacing-mm 25 --imagersize 1280,1024 -o "$tmp/c.cameramodel"
+expect_error "calibrate: unknown lens model" "LENSMODEL_OPENCV9" "LENSMODEL_OPENCV8" -- \
+  "$acq" calibrate intrinsics --corners-cache "$tmp/cal/corners.vnl" --board 10x10 --spacing-mm 25 --imagersize 1280,1024 --lensmodel LENSMODEL_OPENCV9 -o "$tmp/c.cameramodel"
+expect_error "calibrate: missing camera model" "nope.cameramodel" "not found" -- \
+  "$acq" calibrate extrinsics --camera "$tmp/nope.cameramodel" --board 10x10 --spacing-mm 25 --images "$tmp/cal/board-000.png" -o "$tmp/v.tsv"
+"$acq" calibrate synthesize -o "$tmp/centre" --n 12 --centre-spread 0.1 --min-distance-mm 800 --max-distance-mm 900 >/dev/null 2>&1
+out=$("$acq" calibrate intrinsics --corners-cache "$tmp/centre/corners.vnl" --board 10x10 --spacing-mm 25 --imagersize 1280,1024 -o "$tmp/centre.cameramodel" 2>&1); rc=$?
+if [ "$rc" -eq 2 ] && grep -qF "NOT WRITTEN" <<<"$out" && grep -qF "cover only" <<<"$out" && [ ! -e "$tmp/centre.cameramodel" ]; then
+  passed=$((passed + 1)); echo "ok: calibrate: boards only in the centre are refused, no model written"
+else
+  failures=$((failures + 1)); echo "FAIL: calibrate refusal (exit $rc)"; echo "$out" | tail -5
+fi
+
 echo "$passed passed, $failures failed"
 [ "$failures" -eq 0 ]

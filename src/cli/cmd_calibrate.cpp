@@ -190,11 +190,10 @@ int CalibrateIntrinsics(const Argv& argv) {
 }
 
 int CalibrateExtrinsics(const Argv& argv) {
-  const Args args(
-      "acq calibrate extrinsics", argv,
-      {"camera", "images", "board", "spacing-mm", "detector", "light-in-sample-mm",
-       "corners-cache", "o"},
-      {"quiet"});
+  const Args args("acq calibrate extrinsics", argv,
+                  {"camera", "images", "board", "spacing-mm", "detector", "light-in-sample-mm",
+                   "corners-cache", "o"},
+                  {"quiet"});
   if (!args.Has("spacing-mm"))
     throw UserError("acq calibrate extrinsics", "missing --spacing-mm", "the square side in mm");
   const CameraModel camera = CameraModel::Read(args.Required("camera"));
