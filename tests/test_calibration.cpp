@@ -334,14 +334,17 @@ TEST_CASE("poor data sets are diagnosed with the figure that shows it", "[calib]
   // Partly visible boards are normal in a good set (they reach the corners); nothing else warns.
   for (const std::string& w : good.warnings) CHECK(w.find("partly detected") != std::string::npos);
   CHECK(!good.refuse);
+  // The report on 30 boards posed as `s` says.
+  auto report_for = [&](const BoardPoseSampling& s) {
+    const auto obs =
+        SynthesizeCorners(truth, kBoard, SampleBoardPoses(truth, kBoard, 30, s), 0.3, 3);
+    return MakeReport(SolveIntrinsics(1280, 1024, kBoard, obs, options), obs, {});
+  };
   SECTION("every board facing the camera: warned, focal/distance confounded") {
     BoardPoseSampling s;
     s.max_tilt_deg = 3;
     s.seed = 4;
-    const auto obs =
-        SynthesizeCorners(truth, kBoard, SampleBoardPoses(truth, kBoard, 30, s), 0.3, 3);
-    const CalibrationReport r =
-        MakeReport(SolveIntrinsics(1280, 1024, kBoard, obs, options), obs, {});
+    const CalibrationReport r = report_for(s);
     REQUIRE(!r.warnings.empty());
     CHECK(r.warnings[0].find("facing the camera") != std::string::npos);
     CHECK(r.max_tilt_deg < 3.01);
@@ -352,10 +355,7 @@ TEST_CASE("poor data sets are diagnosed with the figure that shows it", "[calib]
     s.min_distance_mm = 700;
     s.max_distance_mm = 900;
     s.seed = 5;
-    const auto obs =
-        SynthesizeCorners(truth, kBoard, SampleBoardPoses(truth, kBoard, 30, s), 0.3, 3);
-    const CalibrationReport r =
-        MakeReport(SolveIntrinsics(1280, 1024, kBoard, obs, options), obs, {});
+    const CalibrationReport r = report_for(s);
     bool coverage_warned = false;
     for (const std::string& w : r.warnings)
       coverage_warned |= w.find("cover only") != std::string::npos;
