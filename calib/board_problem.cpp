@@ -57,19 +57,6 @@ int BoardProblem::BoardMeasurements() const {
   return mrcal_num_measurements_boards(Frames(), board_.width_n, board_.height_n);
 }
 
-int BoardProblem::StateIndexIntrinsics(const Selections& s) const {
-  return mrcal_state_index_intrinsics(0, 1, 0, Frames(), 0, 0, Frames(), s.ToMrcal(),
-                                      &camera_.lensmodel());
-}
-int BoardProblem::StateIndexFrames(const Selections& s) const {
-  return mrcal_state_index_frames(0, 1, 0, Frames(), 0, 0, Frames(), s.ToMrcal(),
-                                  &camera_.lensmodel());
-}
-int BoardProblem::StateIndexWarp(const Selections& s) const {
-  return mrcal_state_index_calobject_warp(1, 0, Frames(), 0, 0, Frames(), s.ToMrcal(),
-                                          &camera_.lensmodel());
-}
-
 // Unpacked state in mrcal's order: [core][distortions] [frames r t ...] [warp].
 std::vector<double> BoardProblem::CurrentState(const Selections& s) const {
   std::vector<double> b;
@@ -113,12 +100,6 @@ Eigen::VectorXd BoardProblem::StateScale(const Selections& s) const {
   return Eigen::Map<Eigen::VectorXd>(ones.data(), ones.size());
 }
 
-void BoardProblem::NudgeState(const Selections& s, int i, double delta) {
-  std::vector<double> b = CurrentState(s);
-  b[i] += delta * StateScale(s)[i];
-  ApplyState(s, b);
-}
-
 void BoardProblem::Optimize(const Selections& s) {
   std::vector<mrcal_pose_t> frames(frames_.size());
   for (std::size_t f = 0; f < frames_.size(); ++f) frames[f] = frames_[f].ToMrcal();
@@ -154,26 +135,34 @@ std::vector<double> BoardProblem::Measurements(const Selections& s) const {
   return x;
 }
 
-Eigen::MatrixXd BoardProblem::Jacobian(const Selections& s) const {
+Eigen::MatrixXd BoardProblem::PackedDerivative(
+    const Selections& s, const std::function<Eigen::VectorXd(const BoardProblem&)>& f) const {
   // Central differences in packed units, where every variable has a scale near 1: a step of
   // 1e-5 keeps truncation (h^2) and rounding (1e-16 / h) errors both near 1e-10.
   const double h = 1e-5;
   const std::vector<double> b0 = CurrentState(s);
   const Eigen::VectorXd scale = StateScale(s);
   BoardProblem work = *this;
-  const int m = static_cast<int>(Measurements(s).size());
-  Eigen::MatrixXd J(m, b0.size());
+  Eigen::MatrixXd out;
   for (std::size_t i = 0; i < b0.size(); ++i) {
     std::vector<double> b = b0;
     b[i] = b0[i] + h * scale[i];
     work.ApplyState(s, b);
-    const std::vector<double> plus = work.Measurements(s);
+    const Eigen::VectorXd plus = f(work);
     b[i] = b0[i] - h * scale[i];
     work.ApplyState(s, b);
-    const std::vector<double> minus = work.Measurements(s);
-    for (int r = 0; r < m; ++r) J(r, i) = (plus[r] - minus[r]) / (2 * h);
+    const Eigen::VectorXd minus = f(work);
+    if (i == 0) out.resize(plus.size(), b0.size());
+    out.col(i) = (plus - minus) / (2 * h);
   }
-  return J;
+  return out;
+}
+
+Eigen::MatrixXd BoardProblem::Jacobian(const Selections& s) const {
+  return PackedDerivative(s, [&s](const BoardProblem& p) {
+    const std::vector<double> x = p.Measurements(s);
+    return Eigen::VectorXd(Eigen::Map<const Eigen::VectorXd>(x.data(), x.size()));
+  });
 }
 
 std::vector<double> BoardProblem::Residuals() const {
@@ -185,6 +174,18 @@ std::vector<double> BoardProblem::Residuals() const {
       out[2 * i + c] =
           pool_[i].z > 0 ? x[2 * i + c] / pool_[i].z : std::numeric_limits<double>::quiet_NaN();
   return out;
+}
+
+double BoardProblem::RmsPerCoordinate(int* inliers) const {
+  double sum = 0;
+  int n = 0;
+  for (double r : Residuals())
+    if (std::isfinite(r)) {
+      sum += r * r;
+      ++n;
+    }
+  if (inliers) *inliers = n / 2;
+  return n ? std::sqrt(sum / n) : 0.0;
 }
 
 void BoardProblem::ChangeLensModel(const std::string& lensmodel) {

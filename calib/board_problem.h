@@ -4,6 +4,7 @@
 // frame f's pose is cam_from_board[f] (mrcal's frames_toref).
 #pragma once
 
+#include <functional>
 #include <vector>
 
 #include <Eigen/Core>
@@ -35,13 +36,14 @@ class BoardProblem {
   std::vector<double> Measurements(const Selections& selections) const;
   int BoardMeasurements() const;  // leading entries of Measurements() that are board residuals
 
-  // dx/db in mrcal's packed (unitless) state, by central differences, and the unpacking scale
-  // of each packed state element.
+  // df/db of any function of the problem, in mrcal's packed (unitless) state, by central
+  // differences: column i is the derivative by packed state element i.
+  Eigen::MatrixXd PackedDerivative(
+      const Selections& selections,
+      const std::function<Eigen::VectorXd(const BoardProblem&)>& f) const;
+  // dx/db: PackedDerivative of Measurements().
   Eigen::MatrixXd Jacobian(const Selections& selections) const;
-  Eigen::VectorXd StateScale(const Selections& selections) const;
   int States(const Selections& selections) const;
-  // Moves packed state element `i` by `delta` (packed units).
-  void NudgeState(const Selections& selections, int i, double delta);
 
   const CameraModel& camera() const { return camera_; }
   CameraModel& camera() { return camera_; }
@@ -53,23 +55,19 @@ class BoardProblem {
   const std::vector<mrcal_point3_t>& pool() const { return pool_; }
   int Frames() const { return static_cast<int>(frames_.size()); }
   int Outliers() const;  // corners detected but rejected by the solver
-  int InitiallyMissing() const { return initially_missing_; }
   // Per-corner reprojection errors (pixels, unweighted) at the current values; NaN for corners
   // that are missing or outliers. Frames x corners x 2.
   std::vector<double> Residuals() const;
+  // RMS of Residuals() per coordinate over the inlier corners, whose count goes to `inliers`.
+  double RmsPerCoordinate(int* inliers = nullptr) const;
   // The camera with lens model changed: intrinsics extended with small seeds (as mrcal's tool
   // seeds them: the rational terms near zero so the model starts as its simpler self).
   void ChangeLensModel(const std::string& lensmodel);
-  // The unpacked state ordering, needed to map gradients: the intrinsics' first state index etc.
-  int StateIndexIntrinsics(const Selections& s) const;
-  int StateIndexFrames(const Selections& s) const;
-  int StateIndexWarp(const Selections& s) const;
 
  private:
+  Eigen::VectorXd StateScale(const Selections& selections) const;  // packed -> unpacked
   void ApplyState(const Selections& selections, const std::vector<double>& unpacked);
   std::vector<double> CurrentState(const Selections& selections) const;
-  struct Raw;  // flattened mrcal arrays
-  Raw Flatten() const;
 
   CameraModel camera_;
   BoardSpec board_;

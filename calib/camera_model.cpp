@@ -1,7 +1,6 @@
 #include "calib/camera_model.h"
 
 #include <cmath>
-#include <cstdio>
 #include <filesystem>
 #include <limits>
 
@@ -13,19 +12,14 @@ namespace acq::calib {
 
 namespace {
 const double kNaN = std::numeric_limits<double>::quiet_NaN();
-
-void Throw(const std::string& where, const std::string& what) {
-  throw UserError(where, what,
-                  "use a model name as mrcal spells it, e.g. LENSMODEL_OPENCV8 or "
-                  "LENSMODEL_SPLINED_STEREOGRAPHIC_order=3_Nx=16_Ny=12_"
-                  "fov_x_deg=60");
-}
 }  // namespace
 
 mrcal_lensmodel_t ParseLensModel(const std::string& lensmodel, const std::string& where) {
   mrcal_lensmodel_t m{};
   if (!mrcal_lensmodel_from_name(&m, lensmodel.c_str()) || !mrcal_lensmodel_type_is_valid(m.type))
-    Throw(where, "unknown or unconfigured lens model '" + lensmodel + "'");
+    throw UserError(where, "unknown or unconfigured lens model '" + lensmodel + "'",
+                    "use a model name as mrcal spells it, e.g. LENSMODEL_OPENCV8 or "
+                    "LENSMODEL_SPLINED_STEREOGRAPHIC_order=3_Nx=16_Ny=12_fov_x_deg=60");
   return m;
 }
 

@@ -1,5 +1,6 @@
 #include "calib/corners.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -100,6 +101,19 @@ std::vector<BoardObservation> ReadCornersCache(const std::string& path, const Bo
   }
   finish(line_no);
   return out;
+}
+
+std::vector<bool> CoveredCells(int width, int height, const std::vector<BoardObservation>& images,
+                               int nx, int ny) {
+  std::vector<bool> covered(nx * ny, false);
+  for (const BoardObservation& obs : images)
+    for (const Eigen::Vector3d& c : obs.corners)
+      if (c.z() > 0) {
+        const int i = std::clamp(static_cast<int>(c.x() * nx / width), 0, nx - 1);
+        const int j = std::clamp(static_cast<int>(c.y() * ny / height), 0, ny - 1);
+        covered[j * nx + i] = true;
+      }
+  return covered;
 }
 
 std::vector<std::vector<int>> BoardSymmetries(const BoardSpec& board) {

@@ -27,6 +27,10 @@ void WriteCornersCache(const std::string& path, const std::vector<BoardObservati
 // UserError naming file:line on malformed rows or a corner count that is not the board's.
 std::vector<BoardObservation> ReadCornersCache(const std::string& path, const BoardSpec& board);
 
+// Which cells of an nx x ny grid over a width x height imager hold a detected corner (row-major).
+std::vector<bool> CoveredCells(int width, int height, const std::vector<BoardObservation>& images,
+                               int nx, int ny);
+
 // The board's symmetric re-orderings (4 rotations of a square grid, 2 otherwise): a detector may
 // return any of them. Each entry maps output index -> input index.
 std::vector<std::vector<int>> BoardSymmetries(const BoardSpec& board);

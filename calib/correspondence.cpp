@@ -49,29 +49,33 @@ FloatPlanes ComputeCorrespondence(const ReferenceView& ref, const CalibratedView
   const std::vector<Eigen::Vector2d> q = view.camera.Project(p_in_cam);
   const Eigen::Vector3d camera_in_sample = view.cam_from_sample.Inverse().t;
   const int W = view.camera.width(), H = view.camera.height();
+  // The planes, looked up once rather than per pixel and channel.
+  auto plane = [&out](const char* name) { return out.planes[name].data(); };
+  float *x = plane("x"), *y = plane("y"), *visible = plane("visible");
+  float *sample_x = plane("sample.x"), *sample_y = plane("sample.y");
+  float* wi_planes[3] = {plane("wi.x"), plane("wi.y"), plane("wi.z")};
+  float* wo_planes[3] = {plane("wo.x"), plane("wo.y"), plane("wo.z")};
   for (std::size_t i = 0; i < n; ++i) {
     if (!p[i].allFinite()) {
-      out.planes["visible"][i] = 0;
+      visible[i] = 0;
       continue;
     }
     const Eigen::Vector3d wo = (camera_in_sample - p[i]).normalized();
     const Eigen::Vector3d wi = (view.light_in_sample_mm - p[i]).normalized();
-    // Visible: in front of the camera, inside the imager (with half a pixel for bilinear
-    // sampling), and the camera above the sample plane (it sees the sample's face).
-    const bool visible = p_in_cam[i].z() > 0 && q[i].allFinite() && q[i].x() >= 0 &&
-                         q[i].y() >= 0 && q[i].x() <= W - 1 && q[i].y() <= H - 1 && wo.z() > 0;
-    out.planes["visible"][i] = visible ? 1.f : 0.f;
-    out.planes["sample.x"][i] = static_cast<float>(p[i].x());
-    out.planes["sample.y"][i] = static_cast<float>(p[i].y());
-    if (visible) {
-      out.planes["x"][i] = static_cast<float>(q[i].x());
-      out.planes["y"][i] = static_cast<float>(q[i].y());
+    // Visible: in front of the camera, within the outermost pixel centres (so bilinear sampling
+    // has all four neighbours), and the camera above the sample plane (it sees the face).
+    const bool seen = p_in_cam[i].z() > 0 && q[i].allFinite() && q[i].x() >= 0 && q[i].y() >= 0 &&
+                      q[i].x() <= W - 1 && q[i].y() <= H - 1 && wo.z() > 0;
+    visible[i] = seen ? 1.f : 0.f;
+    sample_x[i] = static_cast<float>(p[i].x());
+    sample_y[i] = static_cast<float>(p[i].y());
+    if (seen) {
+      x[i] = static_cast<float>(q[i].x());
+      y[i] = static_cast<float>(q[i].y());
     }
-    const char* wi_names[3] = {"wi.x", "wi.y", "wi.z"};
-    const char* wo_names[3] = {"wo.x", "wo.y", "wo.z"};
     for (int c = 0; c < 3; ++c) {
-      out.planes[wi_names[c]][i] = static_cast<float>(wi[c]);
-      out.planes[wo_names[c]][i] = static_cast<float>(wo[c]);
+      wi_planes[c][i] = static_cast<float>(wi[c]);
+      wo_planes[c][i] = static_cast<float>(wo[c]);
     }
   }
   out.attributes["acqFormat"] = "acq-correspondence-1";

@@ -59,14 +59,7 @@ ExtrinsicsResult SolveOrdering(const CameraModel& camera, const BoardSpec& board
   problem.Optimize(s);
   ExtrinsicsResult r;
   r.cam_from_sample = problem.cam_from_board()[0].Compose(SampleFromBoard(board).Inverse());
-  double sum = 0;
-  for (double e : problem.Residuals())
-    if (std::isfinite(e)) {
-      sum += e * e;
-      ++r.corners;
-    }
-  r.corners /= 2;
-  r.rms_px = r.corners ? std::sqrt(sum / (2.0 * r.corners)) : 0;
+  r.rms_px = problem.RmsPerCoordinate(&r.corners);
   return r;
 }
 

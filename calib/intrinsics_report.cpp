@@ -9,16 +9,8 @@
 namespace acq::calib {
 
 double ImagerCoverage(int width, int height, const std::vector<BoardObservation>& images) {
-  const int nx = 16, ny = 12;
-  std::vector<bool> hit(nx * ny, false);
-  for (const BoardObservation& obs : images)
-    for (const Eigen::Vector3d& c : obs.corners) {
-      if (c.z() <= 0) continue;
-      const int i = std::clamp(static_cast<int>(c.x() * nx / width), 0, nx - 1);
-      const int j = std::clamp(static_cast<int>(c.y() * ny / height), 0, ny - 1);
-      hit[j * nx + i] = true;
-    }
-  return static_cast<double>(std::count(hit.begin(), hit.end(), true)) / (nx * ny);
+  const std::vector<bool> hit = CoveredCells(width, height, images, 16, 12);
+  return static_cast<double>(std::count(hit.begin(), hit.end(), true)) / hit.size();
 }
 
 CalibrationReport MakeReport(const IntrinsicsSolution& solution,

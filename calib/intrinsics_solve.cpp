@@ -51,8 +51,7 @@ double EstimateFocalPx(int width, int height, const BoardSpec& board,
   return 0.5 * (K.at<double>(0, 0) + K.at<double>(1, 1));
 }
 
-std::string SplinedModelFor(int width, int height, double focal_px, int nx, int ny) {
-  (void)height;
+std::string SplinedModelFor(int width, double focal_px, int nx, int ny) {
   // The spline must cover the whole imager: the horizontal field of view plus 10%.
   const int fov_x_deg =
       static_cast<int>(std::ceil(1.1 * RadToDeg(2 * std::atan(0.5 * width / focal_px))));
@@ -123,15 +122,8 @@ IntrinsicsSolution SolveIntrinsics(int width, int height, const BoardSpec& board
   }
 
   IntrinsicsSolution out{std::move(problem), s, std::move(image_of_frame)};
-  double sum = 0;
-  for (double r : out.problem.Residuals())
-    if (std::isfinite(r)) {
-      sum += r * r;
-      ++out.inliers;
-    }
-  out.inliers /= 2;
-  out.rms_per_coordinate = std::sqrt(sum / (2.0 * out.inliers));
-  out.rms_per_point = std::sqrt(sum / out.inliers);
+  out.rms_per_coordinate = out.problem.RmsPerCoordinate(&out.inliers);
+  out.rms_per_point = std::sqrt(2.0) * out.rms_per_coordinate;
   out.solve_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return out;

@@ -42,6 +42,6 @@ double EstimateFocalPx(int width, int height, const BoardSpec& board,
                        const std::vector<BoardObservation>& images);
 
 // The splined model whose field of view covers a pinhole camera of this focal length.
-std::string SplinedModelFor(int width, int height, double focal_px, int nx = 16, int ny = 12);
+std::string SplinedModelFor(int width, double focal_px, int nx = 16, int ny = 12);
 
 }  // namespace acq::calib

@@ -11,22 +11,15 @@
 
 namespace acq::calib {
 
-std::vector<std::string> DefaultLadder(int width, int height, double focal_px) {
+std::vector<std::string> DefaultLadder(int width, double focal_px) {
   return {"LENSMODEL_OPENCV4", "LENSMODEL_OPENCV5", "LENSMODEL_OPENCV8",
-          SplinedModelFor(width, height, focal_px)};
+          SplinedModelFor(width, focal_px)};
 }
 
 double ProjectionDifference(const CameraModel& a, const CameraModel& b,
                             const std::vector<BoardObservation>& images, double distance_mm) {
   const int nx = 32, ny = 24;
-  std::vector<bool> covered(nx * ny, false);
-  for (const BoardObservation& obs : images)
-    for (const Eigen::Vector3d& c : obs.corners)
-      if (c.z() > 0) {
-        const int i = std::clamp(static_cast<int>(c.x() * nx / a.width()), 0, nx - 1);
-        const int j = std::clamp(static_cast<int>(c.y() * ny / a.height()), 0, ny - 1);
-        covered[j * nx + i] = true;
-      }
+  const std::vector<bool> covered = CoveredCells(a.width(), a.height(), images, nx, ny);
   std::vector<Eigen::Vector2d> q;
   for (int j = 0; j < ny; ++j)
     for (int i = 0; i < nx; ++i)

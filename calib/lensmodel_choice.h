@@ -27,7 +27,7 @@ struct LensModelChoice {
 };
 
 // OPENCV4, OPENCV5, OPENCV8 and a 16 x 12 cubic spline covering the view.
-std::vector<std::string> DefaultLadder(int width, int height, double focal_px);
+std::vector<std::string> DefaultLadder(int width, double focal_px);
 
 // Projection difference between two solves of one camera: pixels of a 32 x 24 grid in cells
 // that hold corners are unprojected by `a` to points at `distance_mm`, moved by the best-fit

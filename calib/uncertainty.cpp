@@ -36,19 +36,11 @@ UncertaintyModel::UncertaintyModel(const BoardProblem& solved, const Selections&
 }
 
 Eigen::Matrix2d UncertaintyModel::Covariance(const Eigen::Vector2d& q, double distance_mm) const {
-  // dq/db by central differences in packed units (scale ~1 per variable, see BoardProblem).
-  const double h = 1e-5;
-  const int n = problem_.States(selections_);
-  Eigen::MatrixXd dq_db(2, n);
-  BoardProblem perturbed = problem_;
-  for (int i = 0; i < n; ++i) {
-    perturbed.NudgeState(selections_, i, h);
-    const Eigen::Vector2d plus = ReprojectThroughFrames(problem_, perturbed, q, distance_mm);
-    perturbed.NudgeState(selections_, i, -2 * h);
-    const Eigen::Vector2d minus = ReprojectThroughFrames(problem_, perturbed, q, distance_mm);
-    perturbed.NudgeState(selections_, i, h);
-    dq_db.col(i) = (plus - minus) / (2 * h);
-  }
+  // The baseline carries the point into the board frames; the perturbed solution brings it back.
+  const Eigen::MatrixXd dq_db =
+      problem_.PackedDerivative(selections_, [&](const BoardProblem& perturbed) {
+        return Eigen::VectorXd(ReprojectThroughFrames(problem_, perturbed, q, distance_mm));
+      });
   return dq_db * cov_b_ * dq_db.transpose();
 }
 

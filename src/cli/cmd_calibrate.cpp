@@ -168,8 +168,8 @@ int CalibrateIntrinsics(const Argv& argv) {
     const double focal =
         options.focal_px > 0 ? options.focal_px : EstimateFocalPx(width, height, board, obs);
     std::printf("lens-model ladder (cross-validated on two halves of the images):\n");
-    const LensModelChoice choice = ChooseLensModel(width, height, board, obs, ladder_options,
-                                                   DefaultLadder(width, height, focal));
+    const LensModelChoice choice =
+        ChooseLensModel(width, height, board, obs, ladder_options, DefaultLadder(width, focal));
     PrintLadder(stdout, choice);
     options.lensmodel = choice.rows[choice.chosen].lensmodel;
   }
