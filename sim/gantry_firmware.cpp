@@ -13,6 +13,7 @@ SimGantryFirmware::SimGantryFirmware(FirmwareOptions options) : options_(options
 void SimGantryFirmware::Reset() {
   gp_decoder_init(&decoder_);
   rng_.seed(faults.seed);
+  boot_s_ = now_s_;  // the device clock restarts
   homed_ = false;
   faults_ = 0;
   last_command_id_ = 0;
@@ -82,7 +83,7 @@ gp_message SimGantryFirmware::StatusMessage(std::uint8_t sequence) const {
   s.sequence = sequence;
   s.id = GP_STATUS;
   gp_STATUS& b = s.body.STATUS;
-  b.device_clock_ms = std::uint32_t(now_s_ * 1000);
+  b.device_clock_ms = std::uint32_t((now_s_ - boot_s_) * 1000);
   b.light_theta_cmd_mdeg = gp_mdeg_from_rad(axes_[0].to);
   b.light_phi_cmd_mdeg = gp_mdeg_from_rad(axes_[1].to);
   b.camera_theta_cmd_mdeg = gp_mdeg_from_rad(axes_[2].to);

@@ -67,7 +67,7 @@ class SimGantryFirmware {
   FirmwareOptions options_;
   gp_decoder decoder_;
   std::mt19937_64 rng_;
-  double now_s_ = 0;
+  double now_s_ = 0, boot_s_ = 0;
   Axis axes_[4];
   bool homed_ = false;
   std::uint16_t faults_ = 0;

@@ -20,7 +20,7 @@ class SimGantryLink : public ByteTransport {
   double latency_s = 0.005;
 
   void Send(const std::uint8_t* data, std::size_t n) override {
-    if (unplugged) throw UserError("gantry", "USB device gone");
+    if (unplugged) throw TransportGone("gantry", "USB device gone");
     std::uniform_real_distribution<double> u(0, 1);
     if (u(rng_) < drop_request_probability) return;
     std::vector<std::uint8_t> reply;
@@ -28,7 +28,7 @@ class SimGantryLink : public ByteTransport {
     pending_.insert(pending_.end(), reply.begin(), reply.end());
   }
   std::size_t Receive(std::uint8_t* data, std::size_t capacity, int timeout_ms) override {
-    if (unplugged) throw UserError("gantry", "USB device gone");
+    if (unplugged) throw TransportGone("gantry", "USB device gone");
     if (pending_.empty()) {
       firmware_.Advance(timeout_ms / 1000.0);
       return 0;

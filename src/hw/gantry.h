@@ -6,6 +6,7 @@
 #include <cstdint>
 
 #include "core/gantry_geometry.h"
+#include "core/motion_profile.h"
 
 namespace acq {
 
@@ -36,5 +37,12 @@ class Gantry {
 // Moves and waits until the arms have arrived and settled, renewing the lease meanwhile; throws
 // when the gantry reports a fault or does not arrive within `timeout_s`.
 void MoveAndWait(Gantry& gantry, const ArmAngles& target, double timeout_s);
+// The same with the timeout derived from the move: the slowest axis (`axis`, the slower of the
+// gantry's profiles) over the largest travel, plus the settle time, with 50 % and 2 s of margin
+// for polling and link latency.
+double MoveTimeoutSeconds(const ArmAngles& from, const ArmAngles& to, const TrapezoidProfile& axis,
+                          double settle_s);
+void MoveAndWait(Gantry& gantry, const ArmAngles& target, const TrapezoidProfile& axis,
+                 double settle_s);
 
 }  // namespace acq

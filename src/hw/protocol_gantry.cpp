@@ -42,11 +42,16 @@ std::string Hex(std::uint32_t v) {
 
 ProtocolGantry::ProtocolGantry(ByteTransport& transport, ProtocolGantryOptions options)
     : transport_(transport), options_(options) {
+  Handshake();
+}
+
+void ProtocolGantry::Handshake() {
   gp_decoder_init(&decoder_);
   gp_message hello{};
   hello.id = GP_HELLO;
   hello.body.HELLO = {GP_PROTOCOL_VERSION, gp_schema_hash()};
-  const gp_message reply = Request(hello, GP_HELLO_REPLY);
+  hello.sequence = sequence_++;
+  const gp_message reply = Exchange(hello, GP_HELLO_REPLY);
   const gp_HELLO_REPLY& r = reply.body.HELLO_REPLY;
   if (r.protocol_version != GP_PROTOCOL_VERSION || r.schema_hash != gp_schema_hash())
     throw UserError("gantry",
@@ -59,6 +64,29 @@ ProtocolGantry::ProtocolGantry(ByteTransport& transport, ProtocolGantryOptions o
 
 gp_message ProtocolGantry::Request(gp_message request, std::uint8_t reply_id) {
   request.sequence = sequence_++;
+  try {
+    return Exchange(request, reply_id);
+  } catch (const TransportGone& gone) {
+    Reconnect(gone);
+  }
+  // The same frame again: the same sequence number and, for a MOVE, the same command id, which
+  // the firmware acknowledges without moving twice if the first copy got through.
+  return Exchange(request, reply_id);
+}
+
+void ProtocolGantry::Reconnect(const TransportGone& why) {
+  if (!transport_.Reconnect(options_.reconnect_timeout_ms))
+    throw TransportGone(why.where(),
+                        why.problem() + "; it did not come back within " +
+                            std::to_string(options_.reconnect_timeout_ms / 1000.0).substr(0, 4) +
+                            " s",
+                        why.fix());
+  ++reconnects_;
+  Handshake();
+  ReadStatus();  // throws when the controller was reset meanwhile
+}
+
+gp_message ProtocolGantry::Exchange(const gp_message& request, std::uint8_t reply_id) {
   std::uint8_t frame[GP_MAX_FRAME];
   const std::size_t n = gp_encode(&request, frame, sizeof frame);
   for (int attempt = 0; attempt < options_.attempts; ++attempt) {
@@ -131,6 +159,10 @@ void ProtocolGantry::EmergencyStop() {
 }
 
 GantryStatus ProtocolGantry::Status() {
+  return ReadStatus();
+}
+
+GantryStatus ProtocolGantry::ReadStatus() {
   gp_message m{};
   m.id = GP_GET_STATUS;
   const gp_STATUS s = Request(m, GP_STATUS).body.STATUS;
@@ -146,6 +178,21 @@ GantryStatus ProtocolGantry::Status() {
   out.fault_bits = s.fault_bits;
   out.device_clock_ms = s.device_clock_ms;
   out.last_command_id = s.last_command_id;
+  // A controller that restarted has a younger clock and has forgotten its home: whatever was
+  // commanded before is void, and moving on would move from positions it does not know.
+  // (A clock that wrapped after 49 days is far behind, not a little: not a reset.)
+  const bool clock_restarted =
+      s.device_clock_ms < last_clock_ms_ && last_clock_ms_ - s.device_clock_ms < 0x80000000u;
+  const bool reset = clock_restarted || (homed_seen_ && !out.Homed());
+  last_clock_ms_ = s.device_clock_ms;
+  if (reset) {
+    homed_seen_ = false;
+    throw UserError("gantry",
+                    "the controller was reset (its clock restarted at " +
+                        std::to_string(s.device_clock_ms) + " ms and its axes are not homed)",
+                    "home the gantry again before moving; captured frames are unaffected");
+  }
+  homed_seen_ = homed_seen_ || out.Homed();
   return out;
 }
 
@@ -169,25 +216,6 @@ void ProtocolGantry::ClearFaults(std::uint16_t bits) {
   m.id = GP_CLEAR_FAULT;
   m.body.CLEAR_FAULT.fault_bits = bits;
   Command(m);
-}
-
-void MoveAndWait(Gantry& gantry, const ArmAngles& target, double timeout_s) {
-  gantry.RenewLease(2000);
-  gantry.MoveTo(target);
-  const auto start = std::chrono::steady_clock::now();
-  for (;;) {
-    const GantryStatus s = gantry.Status();
-    if (s.fault_bits)
-      throw UserError("gantry", "fault during the move (bits " + std::to_string(s.fault_bits) + ")",
-                      "the arms are stopped; check for an obstruction or a tripped limit, then "
-                      "clear the fault and resume");
-    if (!s.Moving()) return;
-    if (std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() > timeout_s)
-      throw UserError("gantry",
-                      "the arms did not arrive within " + std::to_string(timeout_s) + " s",
-                      "check the gantry; the lease stops the arms when not renewed");
-    gantry.RenewLease(2000);
-  }
 }
 
 }  // namespace acq
