@@ -4,6 +4,7 @@
 #include <catch2/catch.hpp>
 
 #include <chrono>
+#include <thread>
 
 #include "core/angles.h"
 #include "core/error.h"
@@ -61,4 +62,125 @@ TEST_CASE("usb: the driver finds, homes and moves the simulated gantry through l
   RequireAt(gantry.Status(), kTarget);
   CHECK(ExecutedMoves(device) == 1);
   CHECK(device.ioctls() > 10);  // it really went through usbfs
+}
+
+TEST_CASE("usb: a wrong serial or an absent device is refused with what to check", "[usb]") {
+  sim::EmulatedUsbGantry device({}, FastDevice());
+  UsbDeviceId wrong = SimId();
+  wrong.serial = "GX-9999";
+  CHECK_THROWS_WITH(UsbTransport(wrong),
+                    Catch::Contains("serial is not GX-9999") && Catch::Contains("lsusb -v"));
+  UsbDeviceId other = SimId();
+  other.product_id = 0x0001;
+  CHECK_THROWS_WITH(UsbTransport(other), Catch::Contains("1209:0001") &&
+                                             Catch::Contains("no such device") &&
+                                             Catch::Contains("cable"));
+}
+
+TEST_CASE("usb: lost, corrupted and late replies are retransmitted; no move runs twice", "[usb]") {
+  sim::EmulatedUsbGantry device({}, FastDevice());
+  device.WithFirmware([](sim::SimGantryFirmware& f) {
+    f.faults.drop_reply_probability = 0.3;
+    f.faults.corrupt_reply_probability = 0.2;
+  });
+  UsbTransport transport(SimId());
+  ProtocolGantryOptions o;
+  o.attempts = 20;  // with ~45% of replies lost, 20 tries all fail with p < 1e-6
+  o.reply_timeout_ms = 20;
+  ProtocolGantry gantry(transport, o);
+  gantry.Home();
+  MoveAndWait(gantry, kTarget, 20);
+  // Replies now arrive after 30 ms, past the 20 ms timeout: the late answer to the first copy
+  // (same sequence number) is taken, later duplicates are ignored as stale.
+  device.SetReplyDelay(0.030);
+  MoveAndWait(gantry, kOther, 20);
+  device.SetReplyDelay(0);
+  RequireAt(gantry.Status(), kOther);
+  CHECK(gantry.retransmissions() > 0);
+  CHECK(ExecutedMoves(device) == 2);
+}
+
+TEST_CASE("usb: a stalled axis or a tripped limit stops the arms with a clear error", "[usb]") {
+  sim::EmulatedUsbGantry device({}, FastDevice());
+  UsbTransport transport(SimId());
+  ProtocolGantry gantry(transport);
+  gantry.Home();
+  MoveAndWait(gantry, kTarget, 20);
+  device.WithFirmware([](sim::SimGantryFirmware& f) { f.faults.stalled_axis = 2; });
+  CHECK_THROWS_WITH(MoveAndWait(gantry, kOther, 20), Catch::Contains("fault during the move"));
+  GantryStatus s = gantry.Status();
+  CHECK_FALSE(s.Moving());
+  CHECK((s.fault_bits & sim::kFaultStall) != 0);
+  CHECK_THROWS_WITH(gantry.MoveTo(kOther), Catch::Contains("fault is latched"));
+  device.WithFirmware([](sim::SimGantryFirmware& f) { f.faults.stalled_axis = -1; });
+  gantry.ClearFaults(0xFFFF);
+  device.WithFirmware([](sim::SimGantryFirmware& f) { f.faults.trip_limit = true; });
+  CHECK_THROWS_WITH(MoveAndWait(gantry, kOther, 20), Catch::Contains("fault during the move"));
+  CHECK((gantry.Status().fault_bits & sim::kFaultLimit) != 0);
+  gantry.ClearFaults(0xFFFF);
+  MoveAndWait(gantry, kOther, 20);
+  RequireAt(gantry.Status(), kOther);
+}
+
+TEST_CASE("usb: a move whose reply is lost to an unplug is resent after the replug, once",
+          "[usb]") {
+  sim::EmulatedUsbGantry device({}, FastDevice());
+  UsbTransport transport(SimId());
+  ProtocolGantry gantry(transport);
+  gantry.Home();
+  MoveAndWait(gantry, kTarget, 20);
+  // The MOVE reaches the firmware and starts, its reply is held back, and the cable is pulled
+  // before it can be read: the host sees the device vanish mid-request.
+  gantry.RenewLease(5000);
+  device.SetReplyDelay(0.5);
+  std::thread cable([&] {
+    std::this_thread::sleep_for(std::chrono::milliseconds(60));
+    device.Unplug();
+    device.SetReplyDelay(0);
+    std::this_thread::sleep_for(std::chrono::milliseconds(150));
+    device.Plug();
+  });
+  const auto start = std::chrono::steady_clock::now();
+  gantry.MoveTo(kOther);  // reconnects, re-handshakes, re-reads state, resends the same MOVE
+  cable.join();
+  CHECK(SecondsSince(start) < 3);
+  CHECK(gantry.reconnects() == 1);
+  CHECK(transport.reconnects() == 1);
+  GantryStatus s = gantry.Status();
+  while (s.Moving()) gantry.RenewLease(2000), s = gantry.Status();
+  CHECK(s.fault_bits == 0);
+  RequireAt(s, kOther);
+  CHECK(ExecutedMoves(device) == 2);  // the resent MOVE was a duplicate, not a second move
+}
+
+TEST_CASE("usb: a device that does not come back ends in a clear error, never a hang", "[usb]") {
+  sim::EmulatedUsbGantry device({}, FastDevice());
+  UsbTransport transport(SimId());
+  ProtocolGantryOptions o;
+  o.reconnect_timeout_ms = 1000;
+  ProtocolGantry gantry(transport, o);
+  gantry.Home();
+  device.Unplug();
+  const auto start = std::chrono::steady_clock::now();
+  CHECK_THROWS_WITH(gantry.Status(), Catch::Contains("device gone") &&
+                                         Catch::Contains("did not come back within 1.00 s") &&
+                                         Catch::Contains("cable"));
+  CHECK(SecondsSince(start) < 3);  // the reconnect timeout, plus a libusb start or two
+}
+
+TEST_CASE("usb: a controller reset is detected after the reconnect; homing again recovers",
+          "[usb]") {
+  sim::EmulatedUsbGantry device({}, FastDevice());
+  UsbTransport transport(SimId());
+  ProtocolGantry gantry(transport);
+  gantry.Home();
+  MoveAndWait(gantry, kTarget, 20);
+  const int moves_before = ExecutedMoves(device);
+  device.ResetFirmware();
+  CHECK_THROWS_WITH(gantry.MoveTo(kOther), Catch::Contains("controller was reset") &&
+                                               Catch::Contains("home the gantry again"));
+  CHECK(ExecutedMoves(device) == moves_before);  // the MOVE was not sent to a lost state
+  gantry.Home();
+  MoveAndWait(gantry, kOther, 20);
+  RequireAt(gantry.Status(), kOther);
 }
