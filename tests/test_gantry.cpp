@@ -141,3 +141,27 @@ TEST_CASE("a silent or unplugged device ends in a clear error, never a hang", "[
   link.unplugged = true;
   CHECK_THROWS_WITH(g.Status(), Catch::Contains("USB device gone"));
 }
+
+TEST_CASE("move timeouts follow the move; a gantry slower than the plan says is caught",
+          "[gantry]") {
+  const TrapezoidProfile axis{DegToRad(30), DegToRad(60)};
+  // 90 degrees: 3 s cruising plus 0.5 s of ramps, 0.5 s settle; x1.5 + 2 s of margin.
+  CHECK(MoveTimeoutSeconds({0, 0, 0, 0}, {DegToRad(90), 0, 0, 0}, axis, 0.5) ==
+        Approx(1.5 * 4.0 + 2));
+  CHECK(MoveTimeoutSeconds(kTarget, kTarget, axis, 0.5) == Approx(1.5 * 0.5 + 2));
+
+  sim::FirmwareOptions slow;
+  slow.axis = {DegToRad(5), DegToRad(10)};  // six times slower than the host is told
+  sim::SimGantryFirmware fw(slow);
+  test::SimGantryLink link(fw);
+  ProtocolGantry g(link);
+  g.Home();
+  while (g.Status().Moving()) {
+  }
+  CHECK_THROWS_WITH(MoveAndWait(g, kTarget, axis, 0.5), Catch::Contains("did not arrive within"));
+  sim::SimGantryFirmware right;
+  test::SimGantryLink right_link(right);
+  ProtocolGantry ok(right_link);
+  ok.Home();
+  CHECK_NOTHROW(MoveAndWait(ok, kTarget, axis, 0.5));
+}

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
+#include <string>
 
 #include "core/error.h"
 
@@ -25,7 +27,10 @@ void MoveAndWait(Gantry& gantry, const ArmAngles& target, const TrapezoidProfile
 void MoveAndWait(Gantry& gantry, const ArmAngles& target, double timeout_s) {
   gantry.RenewLease(2000);
   gantry.MoveTo(target);
-  const auto start = std::chrono::steady_clock::now();
+  // Elapsed time on the controller's clock: the time the move itself takes (a simulated gantry
+  // runs faster than the wall clock). The wall clock only guards against a frozen device clock.
+  const std::uint32_t start_ms = gantry.Status().device_clock_ms;
+  const auto wall_start = std::chrono::steady_clock::now();
   for (;;) {
     const GantryStatus s = gantry.Status();
     if (s.fault_bits)
@@ -33,10 +38,17 @@ void MoveAndWait(Gantry& gantry, const ArmAngles& target, double timeout_s) {
                       "the arms are stopped; check for an obstruction or a tripped limit, then "
                       "clear the fault and resume");
     if (!s.Moving()) return;
-    if (std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() > timeout_s)
-      throw UserError("gantry",
-                      "the arms did not arrive within " + std::to_string(timeout_s) + " s",
-                      "check the gantry; the lease stops the arms when not renewed");
+    const double elapsed_s = std::uint32_t(s.device_clock_ms - start_ms) / 1000.0;  // wraps
+    const double wall_s =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+    if (elapsed_s > timeout_s || wall_s > 10 * timeout_s) {
+      char seconds[32];
+      std::snprintf(seconds, sizeof seconds, "%.1f", timeout_s);
+      gantry.Stop();
+      throw UserError("gantry", std::string("the arms did not arrive within ") + seconds + " s",
+                      "the arms were stopped; check the axis speeds in the plan against the "
+                      "gantry's and look for an obstruction");
+    }
     gantry.RenewLease(2000);
   }
 }
