@@ -45,6 +45,17 @@ void RequireAt(const GantryStatus& s, const ArmAngles& t) {
   REQUIRE(s.measured.camera_phi == Approx(t.camera_phi).margin(mdeg));
 }
 
+// A simulated gantry on emulated USB, the real driver connected to it, homed and at kTarget.
+struct AtTarget {
+  sim::EmulatedUsbGantry device{{}, FastDevice()};
+  UsbTransport transport{SimId()};
+  ProtocolGantry gantry{transport};
+  AtTarget() {
+    gantry.Home();
+    MoveAndWait(gantry, kTarget, 20);
+  }
+};
+
 double SecondsSince(std::chrono::steady_clock::time_point t) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
 }
@@ -101,11 +112,8 @@ TEST_CASE("usb: lost, corrupted and late replies are retransmitted; no move runs
 }
 
 TEST_CASE("usb: a stalled axis or a tripped limit stops the arms with a clear error", "[usb]") {
-  sim::EmulatedUsbGantry device({}, FastDevice());
-  UsbTransport transport(SimId());
-  ProtocolGantry gantry(transport);
-  gantry.Home();
-  MoveAndWait(gantry, kTarget, 20);
+  AtTarget f;
+  auto& [device, transport, gantry] = f;
   device.WithFirmware([](sim::SimGantryFirmware& f) { f.faults.stalled_axis = 2; });
   CHECK_THROWS_WITH(MoveAndWait(gantry, kOther, 20), Catch::Contains("fault during the move"));
   GantryStatus s = gantry.Status();
@@ -124,11 +132,8 @@ TEST_CASE("usb: a stalled axis or a tripped limit stops the arms with a clear er
 
 TEST_CASE("usb: a move whose reply is lost to an unplug is resent after the replug, once",
           "[usb]") {
-  sim::EmulatedUsbGantry device({}, FastDevice());
-  UsbTransport transport(SimId());
-  ProtocolGantry gantry(transport);
-  gantry.Home();
-  MoveAndWait(gantry, kTarget, 20);
+  AtTarget f;
+  auto& [device, transport, gantry] = f;
   // The MOVE reaches the firmware and starts, its reply is held back, and the cable is pulled
   // before it can be read: the host sees the device vanish mid-request.
   gantry.RenewLease(5000);
@@ -170,11 +175,8 @@ TEST_CASE("usb: a device that does not come back ends in a clear error, never a 
 
 TEST_CASE("usb: a controller reset is detected after the reconnect; homing again recovers",
           "[usb]") {
-  sim::EmulatedUsbGantry device({}, FastDevice());
-  UsbTransport transport(SimId());
-  ProtocolGantry gantry(transport);
-  gantry.Home();
-  MoveAndWait(gantry, kTarget, 20);
+  AtTarget f;
+  auto& [device, transport, gantry] = f;
   const int moves_before = ExecutedMoves(device);
   device.ResetFirmware();
   CHECK_THROWS_WITH(gantry.MoveTo(kOther), Catch::Contains("controller was reset") &&
