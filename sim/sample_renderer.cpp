@@ -1,0 +1,145 @@
+#include "sim/sample_renderer.h"
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+
+#include "core/error.h"
+
+namespace acq::sim {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+// The Lambertian albedo, or the SVBRDF's value, of the sample at `point`.
+std::array<double, 3> Brdf(const RenderScene& scene, const Eigen::Vector2d& point,
+                           const DirectionPair& d) {
+  const double half = scene.sample_size_mm / 2;
+  auto lambert = [](double albedo) {
+    const double f = albedo / kPi;
+    return std::array<double, 3>{f, f, f};
+  };
+  switch (scene.kind) {
+    case RenderScene::Kind::kCard: {
+      if (std::abs(point.x()) >= half || std::abs(point.y()) >= half) break;
+      const SyntheticSvbrdf& c = scene.card;
+      const int x = std::min(c.width - 1, int((point.x() / scene.sample_size_mm + 0.5) * c.width));
+      const int y =
+          std::min(c.height - 1, int((point.y() / scene.sample_size_mm + 0.5) * c.height));
+      return scene.materials.at(c.label[std::size_t(y) * std::size_t(c.width) + std::size_t(x)])
+          .Value(d);
+    }
+    case RenderScene::Kind::kChessboard: {
+      const double s = scene.board.spacing_mm;
+      const double w = (scene.board.width_n + 1) * s, h = (scene.board.height_n + 1) * s;
+      const double u = point.x() + w / 2, v = point.y() + h / 2;
+      if (u < 0 || v < 0 || u >= w || v >= h) break;
+      const int i = int(u / s), j = int(v / s);
+      return lambert((i + j) % 2 ? scene.board_white : scene.board_black);
+    }
+    case RenderScene::Kind::kSpectralon:
+      if (std::abs(point.x()) >= half || std::abs(point.y()) >= half) break;
+      return lambert(scene.spectralon_albedo);
+  }
+  return lambert(scene.background_albedo);
+}
+
+}  // namespace
+
+std::vector<float> RadianceImage::Channel(int channel) const {
+  std::vector<float> out(std::size_t(width) * std::size_t(height));
+  for (std::size_t i = 0; i < out.size(); ++i) {
+    const float* p = &rgb[3 * i];
+    out[i] = channel < 0 ? 0.2126f * p[0] + 0.7152f * p[1] + 0.0722f * p[2] : p[channel];
+  }
+  return out;
+}
+
+std::array<double, 3> RadianceAt(const RenderScene& scene, const Eigen::Vector2d& point,
+                                 const Eigen::Vector3d& eye, const PointLight& light) {
+  const Eigen::Vector3d p(point.x(), point.y(), 0);
+  const Eigen::Vector3d to_light = light.position_mm - p, to_eye = eye - p;
+  if (to_light.z() <= 0 || to_eye.z() <= 0) return {0, 0, 0};  // below the horizon
+  const double d2 = to_light.squaredNorm();
+  const DirectionPair d{to_light.normalized(), to_eye.normalized()};
+  const double irradiance = light.intensity * d.in.z() / d2;
+  std::array<double, 3> f = Brdf(scene, point, d);
+  for (double& v : f) v *= irradiance;
+  return f;
+}
+
+RadianceImage RenderRadiance(const RenderScene& scene, const calib::CameraModel& camera,
+                             const calib::Pose& cam_from_sample, const PointLight& light,
+                             int ray_grid_step_px) {
+  if (ray_grid_step_px < 1) throw UserError("renderer", "the ray grid step must be >= 1 pixel");
+  const int w = camera.width(), h = camera.height(), step = ray_grid_step_px;
+  const calib::Pose sample_from_cam = cam_from_sample.Inverse();
+  const Eigen::Matrix3d R = sample_from_cam.R();
+  const Eigen::Vector3d eye = sample_from_cam.t;
+  // Rays (in the sample frame) on a coarse grid: mrcal's unprojection is iterative, and the
+  // rays vary smoothly across the imager, so bilinear interpolation between grid rays is exact
+  // to far below a pixel for any lens a sample is shot through.
+  const int gw = (w - 1) / step + 2, gh = (h - 1) / step + 2;
+  std::vector<Eigen::Vector3d> grid(std::size_t(gw) * std::size_t(gh));
+  for (int j = 0; j < gh; ++j)
+    for (int i = 0; i < gw; ++i)
+      grid[std::size_t(j) * gw + i] =
+          R *
+          camera.Unproject(Eigen::Vector2d(std::min(i * step, w - 1), std::min(j * step, h - 1)));
+  RadianceImage out{w, h, std::vector<float>(std::size_t(w) * std::size_t(h) * 3, 0.f)};
+#pragma omp parallel for schedule(dynamic, 8)
+  for (int y = 0; y < h; ++y) {
+    const int j = std::min(y / step, gh - 2);
+    const double fy = double(y - j * step) / step;
+    for (int x = 0; x < w; ++x) {
+      const int i = std::min(x / step, gw - 2);
+      const double fx = double(x - i * step) / step;
+      const Eigen::Vector3d ray = (1 - fy) * ((1 - fx) * grid[std::size_t(j) * gw + i] +
+                                              fx * grid[std::size_t(j) * gw + i + 1]) +
+                                  fy * ((1 - fx) * grid[std::size_t(j + 1) * gw + i] +
+                                        fx * grid[std::size_t(j + 1) * gw + i + 1]);
+      if (ray.z() >= 0) continue;  // never meets the plane below the camera
+      const double t = -eye.z() / ray.z();
+      const Eigen::Vector3d p = eye + t * ray;
+      const std::array<double, 3> L = RadianceAt(scene, p.head<2>(), eye, light);
+      float* o = &out.rgb[3 * (std::size_t(y) * std::size_t(w) + std::size_t(x))];
+      for (int c = 0; c < 3; ++c) o[c] = float(L[c]);
+    }
+  }
+  return out;
+}
+
+std::vector<std::uint16_t> Expose(const std::vector<float>& radiance, double exposure_us,
+                                  double gain_db, int max_dn, const SensorModel& sensor,
+                                  std::uint64_t seed) {
+  const double dn_per_e = max_dn / sensor.full_well_e * std::pow(10.0, gain_db / 20);
+  std::vector<std::uint16_t> out(radiance.size());
+  const int blocks = 64;  // independent seeded streams, so threads give the same frame
+#pragma omp parallel for
+  for (int b = 0; b < blocks; ++b) {
+    std::mt19937_64 rng(seed * 1000003u + std::uint64_t(b));
+    std::normal_distribution<double> read(0, sensor.read_noise_e);
+    const std::size_t begin = radiance.size() * std::size_t(b) / blocks;
+    const std::size_t end = radiance.size() * std::size_t(b + 1) / blocks;
+    for (std::size_t i = begin; i < end; ++i) {
+      double e = std::max(0.0, double(radiance[i]) * exposure_us * sensor.quantum_scale);
+      if (sensor.noise) {
+        // Poisson shot noise; its normal approximation beyond 1000 electrons (exact enough,
+        // and an order of magnitude faster).
+        if (e < 1000) {
+          std::poisson_distribution<long> shot(e);
+          e = double(shot(rng));
+        } else {
+          e += std::sqrt(e) * std::normal_distribution<double>(0, 1)(rng);
+        }
+        e += read(rng);
+      }
+      e = std::min(e, sensor.full_well_e);
+      const double dn = std::round(e * dn_per_e + sensor.black_level_dn);
+      out[i] = std::uint16_t(std::clamp(dn, 0.0, double(max_dn)));
+    }
+  }
+  return out;
+}
+
+}  // namespace acq::sim

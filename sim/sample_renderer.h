@@ -1,0 +1,72 @@
+// What the simulated camera sees (issue 6): a flat sample in the sample plane (z = 0, sample
+// frame of docs/calibration.md) under a point light, through any mrcal lens model, and the
+// sensor that turns that radiance into counts.
+//
+// Radiometry, in arbitrary but consistent units: a point light of intensity I at distance d
+// gives irradiance E = I cos(theta_i) / d^2 on the sample; the radiance towards the camera is
+// L = f_r(wi, wo) E (so a Lambertian patch of albedo rho gives L = rho I cos(theta_i) / (pi d^2)).
+// The sensor collects electrons = L * exposure * quantum_scale, adds shot noise (Poisson) and
+// read noise (Gaussian), clips at the full well, scales by the gain and quantises to the pixel
+// format's range, saturating at its maximum.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "calib/board.h"
+#include "calib/camera_model.h"
+#include "sim/synthetic_svbrdf.h"
+
+namespace acq::sim {
+
+struct RenderScene {
+  enum class Kind { kCard, kChessboard, kSpectralon } kind = Kind::kCard;
+  double sample_size_mm = 100;  // the square sample (card, Spectralon board) centred at the origin
+  SyntheticSvbrdf card;         // kCard: material labels over the sample
+  std::vector<GroundTruth> materials;
+  calib::BoardSpec board{10, 10,
+                         10};  // kChessboard: centred at the origin, x and y along the sample's
+  double board_black = 0.04, board_white = 0.85;  // Lambertian albedos of its squares
+  double spectralon_albedo = 0.99;                // kSpectralon: Lambertian
+  double background_albedo = 0.02;                // the dark cloth around the sample (Lambertian)
+};
+
+struct PointLight {
+  Eigen::Vector3d position_mm{0, 0, 1000};  // in the sample frame
+  double intensity = 1e6;                   // radiance units x mm^2
+};
+
+// Linear radiance per pixel of the camera's imager, RGB interleaved (3 floats per pixel).
+struct RadianceImage {
+  int width = 0, height = 0;
+  std::vector<float> rgb;
+  // One channel (0, 1, 2) or, for -1, luminance (Rec. 709 weights): what a mono sensor sees.
+  std::vector<float> Channel(int channel) const;
+};
+
+// Every pixel's ray (mrcal unprojection, on a grid of `ray_grid_step_px` and interpolated
+// between) meets the sample plane; rays that miss the plane see black.
+RadianceImage RenderRadiance(const RenderScene& scene, const calib::CameraModel& camera,
+                             const calib::Pose& cam_from_sample, const PointLight& light,
+                             int ray_grid_step_px = 4);
+
+// The radiance of the scene at one sample point seen from `eye` (both in the sample frame).
+std::array<double, 3> RadianceAt(const RenderScene& scene, const Eigen::Vector2d& point,
+                                 const Eigen::Vector3d& eye, const PointLight& light);
+
+struct SensorModel {
+  double quantum_scale = 1.0;  // electrons per radiance unit per microsecond of exposure
+  double full_well_e = 20000;
+  double read_noise_e = 4;
+  double black_level_dn = 0;  // added before quantisation (in counts at the format's depth)
+  bool noise = true;
+};
+
+// Counts at `max_dn` (255, 4095, 65535) full scale for one exposure; deterministic for a seed.
+std::vector<std::uint16_t> Expose(const std::vector<float>& radiance, double exposure_us,
+                                  double gain_db, int max_dn, const SensorModel& sensor,
+                                  std::uint64_t seed);
+
+}  // namespace acq::sim

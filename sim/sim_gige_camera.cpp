@@ -1,0 +1,200 @@
+#include "sim/sim_gige_camera.h"
+
+#include <arv.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <stdexcept>
+
+namespace acq::sim {
+namespace {
+
+constexpr double kGainRawPerDb = 100;  // the gain register holds centi-dB
+
+void FillCallback(ArvBuffer* buffer, void* self, guint32 exposure_us, guint32 gain,
+                  ArvPixelFormat format) {
+  static_cast<SimGigECamera*>(self)->Fill(buffer, exposure_us, gain, format);
+}
+
+void InsertAfter(std::string* xml, const std::string& anchor, const std::string& text) {
+  const std::size_t at = xml->find(anchor);
+  if (at == std::string::npos)
+    throw std::runtime_error("Aravis's fake camera XML has no " + anchor +
+                             "; this Aravis is not the 0.8 series the simulator was written for");
+  xml->insert(at + anchor.size(), text);
+}
+
+bool SameView(const SimView& a, const SimView& b) {
+  return a.cam_from_sample.r == b.cam_from_sample.r && a.cam_from_sample.t == b.cam_from_sample.t &&
+         a.light.position_mm == b.light.position_mm && a.light.intensity == b.light.intensity;
+}
+
+int MaxDn(std::uint32_t format) {
+  switch (format) {
+    case ARV_PIXEL_FORMAT_MONO_8:
+      return 255;
+    case ARV_PIXEL_FORMAT_MONO_12:
+      return 4095;
+    default:
+      return 65535;
+  }
+}
+
+}  // namespace
+
+std::string SimCameraGenicamXml() {
+  ArvFakeCamera* probe = arv_fake_camera_new("probe");
+  std::size_t size = 0;
+  const char* base = arv_fake_camera_get_genicam_xml(probe, &size);
+  std::string xml(base, size);
+  g_object_unref(probe);
+  InsertAfter(&xml, "<pFeature>ExposureTimeAbs</pFeature>",
+              "\n\t\t<pFeature>ExposureTime</pFeature>");
+  InsertAfter(&xml, "<pFeature>GainRaw</pFeature>", "\n\t\t<pFeature>Gain</pFeature>");
+  InsertAfter(&xml, "<Enumeration Name=\"PixelFormat\" NameSpace=\"Standard\">",
+              "\n\t\t<EnumEntry Name=\"Mono12\" NameSpace=\"Standard\">\n\t\t\t<Value>" +
+                  std::to_string(ARV_PIXEL_FORMAT_MONO_12) + "</Value>\n\t\t</EnumEntry>");
+  InsertAfter(&xml, "<!-- Analog control -->", R"(
+	<Float Name="ExposureTime" NameSpace="Standard">
+		<Description>Exposure duration, in microseconds (SFNC name).</Description>
+		<pValue>ExposureTimeAbsConverter</pValue>
+		<Min>10.0</Min>
+		<Max>10000000.0</Max>
+		<Unit>us</Unit>
+	</Float>
+
+	<Float Name="Gain" NameSpace="Standard">
+		<Description>Gain in dB (SFNC name); the register holds centi-dB.</Description>
+		<pValue>GainDbConverter</pValue>
+		<Min>0.0</Min>
+		<Max>24.0</Max>
+		<Unit>dB</Unit>
+	</Float>
+
+	<Converter Name="GainDbConverter" NameSpace="Custom">
+		<FormulaTo>FROM * 100</FormulaTo>
+		<FormulaFrom>TO / 100</FormulaFrom>
+		<pValue>GainRawRegister</pValue>
+	</Converter>
+)");
+  return xml;
+}
+
+SimGigECamera::SimGigECamera(RenderScene scene, calib::CameraModel model,
+                             std::function<SimView()> view, SimCameraOptions options)
+    : scene_(std::move(scene)),
+      model_(std::move(model)),
+      view_(std::move(view)),
+      options_(std::move(options)) {
+  char path[] = "/tmp/acq-sim-camera-XXXXXX.xml";
+  const int fd = mkstemps(path, 4);
+  if (fd < 0) throw std::runtime_error("cannot write the simulated camera's GenICam file in /tmp");
+  close(fd);
+  genicam_path_ = path;
+  std::ofstream(genicam_path_) << SimCameraGenicamXml();
+  Start();
+}
+
+SimGigECamera::~SimGigECamera() {
+  Stop();
+  std::remove(genicam_path_.c_str());
+}
+
+void SimGigECamera::Start() {
+  ArvGvFakeCamera* gv = arv_gv_fake_camera_new_full(options_.address.c_str(),
+                                                    options_.serial.c_str(), genicam_path_.c_str());
+  if (!gv || !arv_gv_fake_camera_is_running(gv)) {
+    if (gv) g_object_unref(gv);
+    throw std::runtime_error("the simulated camera cannot listen on " + options_.address +
+                             ": the address must be on an interface (ip addr add " +
+                             options_.address + "/8 dev lo; tests/run_in_netns.sh does so)");
+  }
+  ArvFakeCamera* fake = arv_gv_fake_camera_get_fake_camera(gv);
+  // Power-on image size: the camera model's, so a driver that sets nothing gets whole frames.
+  arv_fake_camera_write_register(fake, ARV_FAKE_CAMERA_REGISTER_WIDTH, guint32(model_.width()));
+  arv_fake_camera_write_register(fake, ARV_FAKE_CAMERA_REGISTER_HEIGHT, guint32(model_.height()));
+  arv_fake_camera_set_fill_pattern(fake, FillCallback, this);
+  if (lost_ratio_ > 0) g_object_set(gv, "gvsp-lost-ratio", lost_ratio_, nullptr);
+  gv_camera_ = gv;
+}
+
+void SimGigECamera::Stop() {
+  if (gv_camera_) g_object_unref(static_cast<ArvGvFakeCamera*>(gv_camera_));
+  gv_camera_ = nullptr;
+}
+
+void SimGigECamera::Disappear() {
+  Stop();
+}
+
+void SimGigECamera::Reappear() {
+  if (!gv_camera_) Start();
+}
+
+void SimGigECamera::SetLostPacketRatio(double ratio) {
+  lost_ratio_ = ratio;
+  if (gv_camera_)
+    g_object_set(static_cast<ArvGvFakeCamera*>(gv_camera_), "gvsp-lost-ratio", ratio, nullptr);
+}
+
+ServedFrame SimGigECamera::LastServed() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return last_;
+}
+
+double SimGigECamera::last_render_seconds() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return render_seconds_;
+}
+
+std::uint64_t SimGigECamera::frames_served() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return last_.index;
+}
+
+void SimGigECamera::Fill(void* buffer_pointer, std::uint32_t exposure_us, std::uint32_t gain_raw,
+                         std::uint32_t format) {
+  auto* buffer = static_cast<ArvBuffer*>(buffer_pointer);
+  // Inside the fill callback arv_buffer_get_data reports size 0: size the frame from its
+  // width, height and pixel format instead.
+  const int w = arv_buffer_get_image_width(buffer), h = arv_buffer_get_image_height(buffer);
+  auto* data = static_cast<std::uint8_t*>(const_cast<void*>(arv_buffer_get_data(buffer, nullptr)));
+  const SimView view = view_();
+  std::lock_guard<std::mutex> lock(mutex_);
+  ServedFrame frame;
+  frame.index = last_.index + 1;
+  frame.width = w;
+  frame.height = h;
+  frame.max_dn = MaxDn(format);
+  frame.exposure_us = exposure_us;
+  frame.gain_db = gain_raw / kGainRawPerDb;
+  if (w == model_.width() && h == model_.height()) {
+    if (!have_render_ || !SameView(view, rendered_view_)) {
+      const auto start = std::chrono::steady_clock::now();
+      radiance_ = RenderRadiance(scene_, model_, view.cam_from_sample, view.light,
+                                 options_.ray_grid_step_px)
+                      .Channel(options_.channel);
+      render_seconds_ =
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      rendered_view_ = view;
+      have_render_ = true;
+    }
+    frame.counts = Expose(radiance_, frame.exposure_us, frame.gain_db, frame.max_dn,
+                          options_.sensor, options_.seed * 7919u + frame.index);
+  } else {
+    // A region other than the camera model's: no geometry to render it with. A black frame
+    // makes the mismatch obvious; the driver sets the model's size.
+    frame.counts.assign(std::size_t(w) * std::size_t(h), 0);
+  }
+  if (frame.max_dn == 255) {
+    for (std::size_t i = 0; i < frame.counts.size(); ++i) data[i] = std::uint8_t(frame.counts[i]);
+  } else {
+    std::memcpy(data, frame.counts.data(), frame.counts.size() * 2);  // little-endian host
+  }
+  last_ = std::move(frame);
+}
+
+}  // namespace acq::sim

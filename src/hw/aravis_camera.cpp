@@ -1,0 +1,334 @@
+#include "hw/aravis_camera.h"
+
+#include <arv.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstring>
+
+#include "core/error.h"
+
+namespace acq {
+namespace {
+
+ArvPixelFormat ToArv(PixelFormat f) {
+  switch (f) {
+    case PixelFormat::kMono8:
+      return ARV_PIXEL_FORMAT_MONO_8;
+    case PixelFormat::kMono12:
+      return ARV_PIXEL_FORMAT_MONO_12;
+    case PixelFormat::kMono16:
+      return ARV_PIXEL_FORMAT_MONO_16;
+  }
+  return ARV_PIXEL_FORMAT_MONO_16;
+}
+
+// Takes the GError's message and frees it.
+std::string Message(GError** error) {
+  std::string m = *error ? (*error)->message : "unknown error";
+  g_clear_error(error);
+  return m;
+}
+
+const char* StatusName(ArvBufferStatus s) {
+  switch (s) {
+    case ARV_BUFFER_STATUS_MISSING_PACKETS:
+      return "missing packets";
+    case ARV_BUFFER_STATUS_TIMEOUT:
+      return "timed out";
+    case ARV_BUFFER_STATUS_SIZE_MISMATCH:
+      return "size mismatch";
+    case ARV_BUFFER_STATUS_WRONG_PACKET_ID:
+      return "wrong packet id";
+    case ARV_BUFFER_STATUS_ABORTED:
+      return "aborted";
+    default:
+      return "failed";
+  }
+}
+
+}  // namespace
+
+AravisCamera::AravisCamera(AravisCameraOptions options) : options_(std::move(options)) {
+  const std::string why = Open();
+  if (!why.empty())
+    throw UserError("camera " + options_.id, why,
+                    "check its power and network link; `arv-tool-0.8` lists the cameras Aravis "
+                    "sees and their ids");
+  StartStream();
+}
+
+AravisCamera::~AravisCamera() {
+  Close();
+}
+
+std::string AravisCamera::Describe() const {
+  return model_.empty() ? options_.id : model_;
+}
+
+std::string AravisCamera::Open() {
+  GError* error = nullptr;
+  camera_ = arv_camera_new(options_.id.c_str(), &error);
+  if (!camera_) return "not found or not answering: " + Message(&error);
+  const char* vendor = arv_camera_get_vendor_name(camera_, nullptr);
+  const char* model = arv_camera_get_model_name(camera_, nullptr);
+  const char* serial = arv_camera_get_device_serial_number(camera_, nullptr);
+  model_ = std::string(vendor ? vendor : "?") + " " + (model ? model : "?") + " " +
+           (serial ? serial : "?") + " (" + options_.id + ")";
+  if (arv_camera_is_gv_device(camera_) && !options_.packet_socket)
+    arv_camera_gv_set_stream_options(camera_, ARV_GV_STREAM_OPTION_PACKET_SOCKET_DISABLED);
+  arv_camera_set_acquisition_mode(camera_, ARV_ACQUISITION_MODE_CONTINUOUS, &error);
+  if (!error) arv_camera_set_trigger(camera_, "Software", &error);
+  if (error) {
+    const std::string why = "cannot set software-triggered acquisition: " + Message(&error);
+    g_clear_object(&camera_);
+    return why;
+  }
+  return {};
+}
+
+void AravisCamera::Close() {
+  StopStream();
+  if (camera_) g_clear_object(&camera_);
+}
+
+void AravisCamera::StartStream() {
+  GError* error = nullptr;
+  const guint payload = arv_camera_get_payload(camera_, &error);
+  if (error)
+    throw UserError("camera " + Describe(), "cannot read the payload size: " + Message(&error));
+  stream_ = arv_camera_create_stream(camera_, nullptr, nullptr, &error);
+  if (!stream_)
+    throw UserError("camera " + Describe(), "cannot open its stream: " + Message(&error),
+                    "is another program streaming from it?");
+  if (ARV_IS_GV_STREAM(stream_))
+    g_object_set(stream_, "socket-buffer", ARV_GV_STREAM_SOCKET_BUFFER_FIXED, "socket-buffer-size",
+                 options_.socket_buffer_bytes, "packet-resend",
+                 options_.packet_resend ? ARV_GV_STREAM_PACKET_RESEND_ALWAYS
+                                        : ARV_GV_STREAM_PACKET_RESEND_NEVER,
+                 nullptr);
+  // The pool: enough buffers that the stream never starves while the worker copies one out,
+  // bounded by the memory a frame size implies.
+  const std::size_t buffers =
+      std::clamp<std::size_t>(options_.pool_bytes / std::max<guint>(payload, 1), 3, 16);
+  for (std::size_t i = 0; i < buffers; ++i)
+    arv_stream_push_buffer(stream_, arv_buffer_new(payload, nullptr));
+  arv_camera_start_acquisition(camera_, &error);
+  if (error)
+    throw UserError("camera " + Describe(), "cannot start acquisition: " + Message(&error));
+  stop_worker_ = false;
+  worker_ = std::thread([this] { Work(); });
+}
+
+void AravisCamera::StopStream() {
+  if (worker_.joinable()) {
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      stop_worker_ = true;
+    }
+    worker_.join();
+  }
+  if (!stream_) return;
+  if (camera_) arv_camera_stop_acquisition(camera_, nullptr);  // fails harmlessly when gone
+  if (ARV_IS_GV_STREAM(stream_)) {
+    guint64 resent = 0, missing = 0;
+    arv_gv_stream_get_statistics(ARV_GV_STREAM(stream_), &resent, &missing);
+    std::lock_guard<std::mutex> lock(mutex_);
+    stats_.resent_packets += resent;
+    stats_.missing_packets += missing;
+  }
+  g_clear_object(&stream_);
+  std::lock_guard<std::mutex> lock(mutex_);
+  deliveries_.clear();
+}
+
+void AravisCamera::Work() {
+  for (;;) {
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      if (stop_worker_) return;
+    }
+    ArvBuffer* buffer = arv_stream_timeout_pop_buffer(stream_, 100000);  // 100 ms, to see stop
+    if (!buffer) continue;
+    Delivery d;
+    const ArvBufferStatus status = arv_buffer_get_status(buffer);
+    if (status == ARV_BUFFER_STATUS_SUCCESS) {
+      std::size_t size = 0;
+      const auto* data = static_cast<const std::uint8_t*>(arv_buffer_get_data(buffer, &size));
+      Frame& f = d.frame;
+      f.width = arv_buffer_get_image_width(buffer);
+      f.height = arv_buffer_get_image_height(buffer);
+      const ArvPixelFormat format = arv_buffer_get_image_pixel_format(buffer);
+      f.pixel_format = format == ARV_PIXEL_FORMAT_MONO_8    ? PixelFormat::kMono8
+                       : format == ARV_PIXEL_FORMAT_MONO_12 ? PixelFormat::kMono12
+                                                            : PixelFormat::kMono16;
+      f.frame_id = arv_buffer_get_frame_id(buffer);
+      f.timestamp_ns = arv_buffer_get_timestamp(buffer);
+      const std::size_t n = std::size_t(f.width) * std::size_t(f.height);
+      const std::size_t bytes = f.pixel_format == PixelFormat::kMono8 ? 1 : 2;
+      if (size >= n * bytes) {
+        f.pixels.resize(n);
+        if (bytes == 1)
+          std::copy(data, data + n, f.pixels.begin());
+        else
+          std::memcpy(f.pixels.data(), data, n * 2);  // little-endian, as GigE Vision sends
+        d.complete = true;
+      } else {
+        d.why = "short frame";
+      }
+    } else {
+      d.why = StatusName(status);
+    }
+    arv_stream_push_buffer(stream_, buffer);  // straight back: Aravis never waits for us
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (d.complete) {
+      d.frame.exposure_us = settings_.exposure_us;
+      d.frame.gain_db = settings_.gain_db;
+    }
+    deliveries_.push_back(std::move(d));
+    delivered_.notify_all();
+  }
+}
+
+void AravisCamera::Apply(const CameraSettings& settings) {
+  settings.Check("camera settings");
+  settings_ = settings;
+  have_settings_ = true;
+  ApplyToDevice();
+}
+
+void AravisCamera::ApplyToDevice() {
+  GError* error = nullptr;
+  const std::string where = "camera " + Describe();
+  auto check = [&](const std::string& what) {
+    if (error) throw UserError(where, "cannot set " + what + ": " + Message(&error));
+  };
+  // The region and the pixel format change the payload: the stream is rebuilt for them only,
+  // not for an exposure bracket.
+  const bool restream = !stream_ || settings_.pixel_format != streamed_format_ ||
+                        settings_.width != streamed_width_ || settings_.height != streamed_height_;
+  if (restream) StopStream();
+  if (restream && settings_.width > 0) {
+    arv_camera_set_region(camera_, 0, 0, settings_.width, settings_.height, &error);
+    check("the region " + std::to_string(settings_.width) + "x" + std::to_string(settings_.height));
+  }
+  if (restream) {
+    arv_camera_set_pixel_format(camera_, ToArv(settings_.pixel_format), &error);
+    check(std::string("the pixel format ") + PixelFormatName(settings_.pixel_format));
+  }
+  arv_camera_set_exposure_time(camera_, settings_.exposure_us, &error);
+  check("the exposure");
+  arv_camera_set_gain(camera_, settings_.gain_db, &error);
+  check("the gain");
+  // Read back: cameras round exposures to their line time and clamp to their range.
+  const double exposure = arv_camera_get_exposure_time(camera_, &error);
+  check("(reading back) the exposure");
+  if (std::abs(exposure - settings_.exposure_us) > std::max(1.0, 0.005 * settings_.exposure_us))
+    throw UserError(where,
+                    "asked for an exposure of " + std::to_string(settings_.exposure_us) +
+                        " us, the camera took " + std::to_string(exposure) + " us",
+                    "use an exposure within the camera's range and step");
+  settings_.exposure_us = exposure;  // frames carry what the camera uses
+  if (arv_camera_get_pixel_format(camera_, nullptr) != ToArv(settings_.pixel_format))
+    throw UserError(where, std::string("the camera did not take the pixel format ") +
+                               PixelFormatName(settings_.pixel_format));
+  if (!restream) return;
+  StartStream();
+  streamed_format_ = settings_.pixel_format;
+  streamed_width_ = settings_.width;
+  streamed_height_ = settings_.height;
+}
+
+bool AravisCamera::StillAnswering() {
+  GError* error = nullptr;
+  arv_camera_get_exposure_time(camera_, &error);
+  if (!error) return true;
+  g_clear_error(&error);
+  return false;
+}
+
+bool AravisCamera::Reopen() {
+  Close();
+  const auto deadline =
+      std::chrono::steady_clock::now() + std::chrono::milliseconds(options_.reopen_timeout_ms);
+  while (std::chrono::steady_clock::now() < deadline) {
+    if (Open().empty()) {
+      {
+        std::lock_guard<std::mutex> lock(mutex_);
+        ++stats_.reopens;
+      }
+      if (have_settings_)
+        ApplyToDevice();
+      else
+        StartStream();
+      return true;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(200));
+  }
+  return false;
+}
+
+Frame AravisCamera::Grab() {
+  const std::string where = "camera " + Describe();
+  std::string last_why = "none";
+  for (int attempt = 0; attempt <= options_.retakes; ++attempt) {
+    if (attempt > 0) {
+      std::lock_guard<std::mutex> lock(mutex_);
+      ++stats_.retakes;
+    }
+    if (!camera_ && !Reopen()) break;
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      stats_.stale_discarded += deliveries_.size();  // taken before this trigger: not ours
+      deliveries_.clear();
+    }
+    GError* error = nullptr;
+    arv_camera_software_trigger(camera_, &error);
+    if (error) {
+      last_why = "lost control: " + Message(&error);
+      if (!Reopen()) break;
+      continue;
+    }
+    std::unique_lock<std::mutex> lock(mutex_);
+    const bool got = delivered_.wait_for(lock, std::chrono::milliseconds(options_.frame_timeout_ms),
+                                         [&] { return !deliveries_.empty(); });
+    if (got) {
+      Delivery d = std::move(deliveries_.front());
+      deliveries_.pop_front();
+      if (d.complete) {
+        ++stats_.completed;
+        return std::move(d.frame);
+      }
+      ++stats_.incomplete;
+      last_why = d.why;
+      continue;
+    }
+    ++stats_.incomplete;
+    last_why = "no frame within " + std::to_string(options_.frame_timeout_ms) + " ms";
+    lock.unlock();
+    if (!StillAnswering()) {
+      last_why += " and the camera stopped answering";
+      if (!Reopen()) break;
+    }
+  }
+  throw UserError(where,
+                  "no complete frame after " + std::to_string(options_.retakes + 1) +
+                      " attempts (last: " + last_why + ")",
+                  "check the camera's power and link (cable, MTU, net.core.rmem_max); frames "
+                  "already captured are kept");
+}
+
+StreamStatistics AravisCamera::Statistics() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  StreamStatistics s = stats_;
+  if (stream_ && ARV_IS_GV_STREAM(stream_)) {
+    guint64 resent = 0, missing = 0;
+    arv_gv_stream_get_statistics(ARV_GV_STREAM(stream_), &resent, &missing);
+    s.resent_packets += resent;
+    s.missing_packets += missing;
+  }
+  return s;
+}
+
+}  // namespace acq
