@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 
 #include "core/error.h"
@@ -240,12 +241,20 @@ void AravisCamera::ApplyToDevice() {
   streamed_height_ = settings_.height;
 }
 
-bool AravisCamera::StillAnswering() {
+bool AravisCamera::StillInControl() {
+  // A GigE Vision camera gives its control channel to one application (the privilege register
+  // at 0x0A00 of its bootstrap memory); one that restarted, or dropped us for a missed
+  // heartbeat, shows no privilege. Raw register reads bypass Aravis's feature cache. Other
+  // transports (USB3 Vision) have no such register: reaching the device is all we can check.
   GError* error = nullptr;
-  arv_camera_get_exposure_time(camera_, &error);
-  if (!error) return true;
-  g_clear_error(&error);
-  return false;
+  guint32 privilege = 0;
+  const guint32 address = arv_camera_is_gv_device(camera_) ? 0x0A00 : 0;
+  arv_device_read_register(arv_camera_get_device(camera_), address, &privilege, &error);
+  if (error) {
+    g_clear_error(&error);
+    return false;
+  }
+  return !arv_camera_is_gv_device(camera_) || (privilege & 0x3) != 0;
 }
 
 bool AravisCamera::Reopen() {
@@ -272,12 +281,19 @@ bool AravisCamera::Reopen() {
 Frame AravisCamera::Grab() {
   const std::string where = "camera " + Describe();
   std::string last_why = "none";
+  auto gone = [&] {
+    char seconds[32];
+    std::snprintf(seconds, sizeof seconds, "%.1f", options_.reopen_timeout_ms / 1000.0);
+    return UserError(where, "lost (" + last_why + ") and not back within " + seconds + " s",
+                     "check the camera's power and network link; frames already captured are "
+                     "kept, and the session resumes from here");
+  };
   for (int attempt = 0; attempt <= options_.retakes; ++attempt) {
     if (attempt > 0) {
       std::lock_guard<std::mutex> lock(mutex_);
       ++stats_.retakes;
     }
-    if (!camera_ && !Reopen()) break;
+    if (!camera_ && !Reopen()) throw gone();
     {
       std::lock_guard<std::mutex> lock(mutex_);
       stats_.stale_discarded += deliveries_.size();  // taken before this trigger: not ours
@@ -287,7 +303,7 @@ Frame AravisCamera::Grab() {
     arv_camera_software_trigger(camera_, &error);
     if (error) {
       last_why = "lost control: " + Message(&error);
-      if (!Reopen()) break;
+      if (!Reopen()) throw gone();
       continue;
     }
     std::unique_lock<std::mutex> lock(mutex_);
@@ -307,9 +323,9 @@ Frame AravisCamera::Grab() {
     ++stats_.incomplete;
     last_why = "no frame within " + std::to_string(options_.frame_timeout_ms) + " ms";
     lock.unlock();
-    if (!StillAnswering()) {
-      last_why += " and the camera stopped answering";
-      if (!Reopen()) break;
+    if (!StillInControl()) {
+      last_why += " and the camera stopped answering or restarted";
+      if (!Reopen()) throw gone();
     }
   }
   throw UserError(where,

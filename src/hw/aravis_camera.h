@@ -60,7 +60,7 @@ class AravisCamera : public Camera {
   void StopStream();
   void ApplyToDevice();  // throws UserError
   bool Reopen();
-  bool StillAnswering();
+  bool StillInControl();
   void Work();
 
   AravisCameraOptions options_;
