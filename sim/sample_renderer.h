@@ -11,6 +11,7 @@
 #pragma once
 
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include <Eigen/Core>
@@ -26,6 +27,7 @@ struct RenderScene {
   double sample_size_mm = 100;  // the square sample (card, Spectralon board) centred at the origin
   SyntheticSvbrdf card;         // kCard: material labels over the sample
   std::vector<GroundTruth> materials;
+  std::vector<std::string> material_names;  // for the ground truth written beside a session
   calib::BoardSpec board{10, 10,
                          10};  // kChessboard: centred at the origin, x and y along the sample's
   double board_black = 0.04, board_white = 0.85;  // Lambertian albedos of its squares

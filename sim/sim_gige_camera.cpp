@@ -6,8 +6,12 @@
 #include <chrono>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <stdexcept>
+
+#include "calib/synthetic_board.h"
+#include "io/float_planes_exr.h"
 
 namespace acq::sim {
 namespace {
@@ -81,6 +85,36 @@ std::string SimCameraGenicamXml() {
 	</Converter>
 )");
   return xml;
+}
+
+SimView ViewFromArms(const ArmAngles& arms, double camera_distance_mm, double light_distance_mm,
+                     double light_intensity) {
+  const DirectionPair far = DirectionsOf(arms);
+  SimView v;
+  v.cam_from_sample = calib::CamFromSampleLookingAtCentre(far.out * camera_distance_mm);
+  v.light.position_mm = far.in * light_distance_mm;
+  v.light.intensity = light_intensity;
+  return v;
+}
+
+void WriteGroundTruth(const std::string& dir, const RenderScene& scene,
+                      const calib::CameraModel& camera) {
+  std::filesystem::create_directories(dir);
+  FloatPlanes labels;
+  labels.width = scene.card.width;
+  labels.height = scene.card.height;
+  labels.planes["material"].assign(scene.card.label.begin(), scene.card.label.end());
+  labels.attributes["acqFormat"] = "acq-ground-truth-1";
+  labels.attributes["sampleSizeMm"] = std::to_string(scene.sample_size_mm);
+  WriteFloatPlanesExr(dir + "/ground_truth_labels.exr", labels);
+  std::ofstream names(dir + "/materials.tsv");
+  names << "# index\tname\n";
+  for (std::size_t i = 0; i < scene.materials.size(); ++i)
+    names << i << "\t"
+          << (i < scene.material_names.size() ? scene.material_names[i]
+                                              : "material" + std::to_string(i))
+          << "\n";
+  camera.Write(dir + "/camera.cameramodel");
 }
 
 SimGigECamera::SimGigECamera(RenderScene scene, calib::CameraModel model,

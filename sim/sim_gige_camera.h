@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "calib/camera_model.h"
+#include "core/gantry_geometry.h"
 #include "sim/sample_renderer.h"
 
 namespace acq::sim {
@@ -25,6 +26,18 @@ struct SimView {
   calib::Pose cam_from_sample;
   PointLight light;
 };
+
+// Where the gantry's arms put the camera (looking at the sample centre, image x horizontal) and
+// the light, at the arms' distances: what the simulated camera renders from while the simulated
+// gantry holds those angles (EmulatedUsbGantry::WithFirmware(... Measured())).
+SimView ViewFromArms(const ArmAngles& arms, double camera_distance_mm, double light_distance_mm,
+                     double light_intensity);
+
+// Writes what a test needs to score a reconstruction of `scene`, beside the session: the
+// material label per card pixel (EXR plane "material", attribute sampleSizeMm), the materials'
+// names (materials.tsv: index, name) and the camera model (camera.cameramodel).
+void WriteGroundTruth(const std::string& dir, const RenderScene& scene,
+                      const calib::CameraModel& camera);
 
 struct SimCameraOptions {
   std::string address = "127.0.0.2";

@@ -104,11 +104,16 @@ std::vector<double> ChooseBracket(Camera& camera, CameraSettings settings, const
   const double full = probe.MaxValue() - hdr.black_level_dn;
   const double shortest = std::clamp(t0 * o.headroom * full / std::max(bright, 1.0),
                                      o.min_exposure_us, o.max_exposure_us);
+  // The dark end is read from a frame at the shortest exposure itself: the first probe may be
+  // so dark (or so short) that its darkest pixels are all zero.
+  settings.exposure_us = shortest;
+  camera.Apply(settings);
+  const Frame at_shortest = camera.Grab();
   const double dark =
-      std::max(1.0, Percentile(probe.pixels, o.dark_percentile) - hdr.black_level_dn);
+      std::max(0.5, Percentile(at_shortest.pixels, o.dark_percentile) - hdr.black_level_dn);
   // The exposure that lifts the dark end to 10x the noise floor.
-  const double longest =
-      std::clamp(t0 * 10 * std::max(hdr.noise_floor_dn, 1.0) / dark, shortest, o.max_exposure_us);
+  const double longest = std::clamp(shortest * 10 * std::max(hdr.noise_floor_dn, 1.0) / dark,
+                                    shortest, o.max_exposure_us);
   std::vector<double> exposures{shortest};
   while (exposures.back() < longest && int(exposures.size()) < o.max_frames)
     exposures.push_back(std::min(exposures.back() * o.step, o.max_exposure_us));
