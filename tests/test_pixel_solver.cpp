@@ -1,6 +1,8 @@
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <cstdio>
 
+#include "acq/correspondence_source.h"
 #include "acq/map_render.h"
 #include "acq/reconstruction_job.h"
 #include "brdf/direction_optimizer.h"
@@ -8,8 +10,11 @@
 #include "brdf/fov_evaluation.h"
 #include "brdf/log_mapping.h"
 #include "brdf/pixel_solver.h"
+#include "calib/correspondence.h"
+#include "calib/synthetic_board.h"
 #include "core/angles.h"
 #include "issue_split.h"
+#include "sim/sim_gige_camera.h"
 #include "sim/synthetic_svbrdf.h"
 #include "test_helpers.h"
 
@@ -316,4 +321,109 @@ TEST_CASE("rows shared by tiles equal per-pixel rows where the directions are th
   for (std::size_t i = 0; i < a.coefficients.size(); ++i)
     REQUIRE(b.coefficients[i] == Approx(a.coefficients[i]).margin(1e-6));
   CHECK(a.valid == b.valid);
+}
+
+TEST_CASE(
+    "a session's path (rendered views, correspondence maps, Spectralon radiometry) "
+    "reconstructs as well as observations taken straight from the ground truth",
+    "[pixel][accuracy][session]") {
+  // The card seen by a reference camera straight above it whose pixels are the card's pixels
+  // (f = d W / size), then each of the 20 views rendered by the simulated camera's renderer
+  // (higher resolution, pinhole, at the arms' distances), mapped back through the calibration's
+  // correspondence maps, and turned into BRDF values with a Spectralon rendered in the same
+  // view. The direct path gives each pixel its material's exact value at its true directions.
+  const Fixture& d = Data();
+  const HeldOutSet truth(d.basis.View(), d.tables);
+  const int n = 24;
+  const double size_mm = 20, distance = 1000;
+  const sim::SyntheticSvbrdf scene = sim::MakeCardLayout(n, n, size_mm, 4, 2);
+  sim::RenderScene card;
+  card.kind = sim::RenderScene::Kind::kCard;
+  card.sample_size_mm = size_mm;
+  card.card = scene;
+  card.materials = d.continuous;
+  sim::RenderScene spectralon = card;
+  spectralon.kind = sim::RenderScene::Kind::kSpectralon;
+  spectralon.sample_size_mm = 200;
+
+  calib::ReferenceView reference;
+  const double f_ref = distance * n / size_mm;
+  reference.camera =
+      calib::CameraModel("LENSMODEL_PINHOLE", {f_ref, f_ref, (n - 1) / 2.0, (n - 1) / 2.0}, n, n);
+  reference.cam_from_sample = calib::CamFromSampleLookingAtCentre({0, 0, distance});
+  // Views: 160 px across 32 mm at normal incidence, 5 view pixels per card pixel.
+  const double f_view = distance * 160 / 32.0;
+  const calib::CameraModel view_camera("LENSMODEL_PINHOLE", {f_view, f_view, 79.5, 79.5}, 160, 160);
+  std::vector<SessionView> views;
+  for (std::size_t v = 0; v < d.views.size(); ++v) {
+    const sim::SimView pose = sim::ViewFromArms(d.views[v], distance, distance, 1e6);
+    calib::CalibratedView calibrated{view_camera, pose.cam_from_sample, pose.light.position_mm};
+    SessionView sv;
+    sv.name = "view " + std::to_string(v);
+    // Through the session's file, as the reconstructor reads it (correspondence/NNN.exr).
+    const std::string map_path = "session_path_test_" + std::to_string(v) + ".exr";
+    WriteFloatPlanesExr(map_path, calib::ComputeCorrespondence(reference, calibrated));
+    sv.correspondence = ReadFloatPlanesExr(map_path);
+    std::remove(map_path.c_str());
+    const sim::RadianceImage L =
+        sim::RenderRadiance(card, view_camera, pose.cam_from_sample, pose.light, 1);
+    const sim::RadianceImage Ls =
+        sim::RenderRadiance(spectralon, view_camera, pose.cam_from_sample, pose.light, 1);
+    for (int c = 0; c < 3; ++c) {
+      sv.sample[c] = {160, 160, L.Channel(c), {}};
+      sv.spectralon[c] = {160, 160, Ls.Channel(c), {}};
+    }
+    sv.light_in_sample_mm = pose.light.position_mm;
+    sv.light_intensity = pose.light.intensity;
+    views.push_back(std::move(sv));
+  }
+  // The same views without their Spectralon: the point-light model with the light's intensity.
+  std::vector<SessionView> point_light_views = views;
+  for (SessionView& v : point_light_views)
+    for (ViewImage& im : v.spectralon) im = {};
+  CorrespondenceSource point_light(std::move(point_light_views), size_mm / n);
+  CorrespondenceSource source(std::move(views), size_mm / n);
+  const PixelObservations obs = source.Rows(0, n);
+  PixelSolveOptions solve = PerPixel();
+  PixelSolution camera_path;
+  camera_path.Resize(obs.pixels, solve.components);
+  SolvePixels(d.basis.View(), obs, solve, &camera_path);
+
+  // Each reference pixel's material is the card's at its sample point.
+  sim::SyntheticSvbrdf seen = scene;
+  const FloatPlanes map0 = calib::ComputeCorrespondence(
+      reference,
+      {view_camera, sim::ViewFromArms(d.views[0], distance, distance, 1e6).cam_from_sample, {}});
+  for (int p = 0; p < n * n; ++p) {
+    const double px = map0.Plane("sample.x", "map")[p], py = map0.Plane("sample.y", "map")[p];
+    const int cx = std::min(n - 1, int((px / size_mm + 0.5) * n));
+    const int cy = std::min(n - 1, int((py / size_mm + 0.5) * n));
+    seen.label[std::size_t(p)] = scene.label[std::size_t(cy) * n + cx];
+  }
+  sim::ObservationOptions direct_options;
+  direct_options.geometry.camera_distance_mm = distance;
+  direct_options.geometry.light_distance_mm = distance;
+  const PixelSolution direct = Solve(scene, d.continuous, direct_options, solve);
+  const double camera_error = MedianPixelError(seen, camera_path, truth);
+  PixelSolution light_model;
+  light_model.Resize(obs.pixels, solve.components);
+  SolvePixels(d.basis.View(), point_light.Rows(0, n), solve, &light_model);
+  // The renderer's light is exactly a point light: the model must agree with the Spectralon.
+  CHECK(MedianPixelError(seen, light_model, truth) == Approx(camera_error).epsilon(1e-3));
+  const double direct_error = MedianPixelError(scene, direct, truth);
+  WARN("median log-space RMSE: session path " << camera_error << ", direct " << direct_error);
+  // Every view is used by every pixel; the few pixels whose 20 directions are poorly
+  // conditioned (condition number > 1e4: the near field moves them) are the same in number on
+  // both paths, since conditioning depends on the directions alone.
+  long camera_valid = 0, direct_valid = 0;
+  for (int p = 0; p < n * n; ++p) {
+    REQUIRE(camera_path.observations[std::size_t(p)] == 20);
+    camera_valid += camera_path.valid[std::size_t(p)];
+    direct_valid += direct.valid[std::size_t(p)];
+  }
+  CHECK(camera_valid == direct_valid);
+  // Measured 0.3611 vs 0.3612: the renderer, the maps and the Spectralon ratio lose nothing
+  // measurable. 2% allows for bilinear sampling across the card's sharp edges (a view pixel
+  // straddling two inks) and nothing like a wrong direction or a misplaced pixel (tens of %).
+  CHECK(camera_error == Approx(direct_error).epsilon(0.02));
 }

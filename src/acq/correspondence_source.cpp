@@ -1,0 +1,106 @@
+#include "acq/correspondence_source.h"
+
+#include <cmath>
+#include <limits>
+
+#include "brdf/radiometry.h"
+#include "core/error.h"
+
+namespace acq {
+namespace {
+
+constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
+
+// Bilinear sample at (x, y) in mrcal's convention (pixel centres at integers); NaN off the
+// image or where any of the four pixels is unusable.
+float Sample(const ViewImage& im, double x, double y) {
+  const int x0 = int(std::floor(x)), y0 = int(std::floor(y));
+  if (x0 < 0 || y0 < 0 || x0 + 1 >= im.width || y0 + 1 >= im.height) return kNaN;
+  const double fx = x - x0, fy = y - y0;
+  const std::size_t i = std::size_t(y0) * std::size_t(im.width) + std::size_t(x0);
+  const std::size_t w = std::size_t(im.width);
+  if (!im.unusable.empty() &&
+      (im.unusable[i] || im.unusable[i + 1] || im.unusable[i + w] || im.unusable[i + w + 1]))
+    return kNaN;
+  const float* r = im.radiance.data();
+  return float((1 - fy) * ((1 - fx) * r[i] + fx * r[i + 1]) +
+               fy * ((1 - fx) * r[i + w] + fx * r[i + w + 1]));
+}
+
+void CheckImage(const ViewImage& im, const std::string& what) {
+  if (im.radiance.size() != std::size_t(im.width) * std::size_t(im.height))
+    throw UserError(what, "image of " + std::to_string(im.width) + "x" + std::to_string(im.height) +
+                              " has " + std::to_string(im.radiance.size()) + " values");
+  if (!im.unusable.empty() && im.unusable.size() != im.radiance.size())
+    throw UserError(what, "flags do not match the image's size");
+}
+
+}  // namespace
+
+CorrespondenceSource::CorrespondenceSource(std::vector<SessionView> views, double pixel_size_mm)
+    : views_(std::move(views)), pixel_size_mm_(pixel_size_mm) {
+  if (views_.empty()) throw UserError("reconstruction", "no views to reconstruct from");
+  width_ = views_[0].correspondence.width;
+  height_ = views_[0].correspondence.height;
+  for (const SessionView& v : views_) {
+    if (v.correspondence.width != width_ || v.correspondence.height != height_)
+      throw UserError(v.name, "correspondence map of another size than the first view's",
+                      "compute all maps from the same reference view");
+    for (const char* plane : {"x", "y", "visible", "sample.x", "sample.y", "wi.x", "wi.y", "wi.z",
+                              "wo.x", "wo.y", "wo.z"})
+      v.correspondence.Plane(plane, v.name);  // throws naming the missing plane
+    for (int c = 0; c < 3; ++c) {
+      CheckImage(v.sample[c], v.name + " (sample image)");
+      if (!v.spectralon[c].radiance.empty()) CheckImage(v.spectralon[c], v.name + " (Spectralon)");
+    }
+  }
+}
+
+std::string CorrespondenceSource::Describe() const {
+  return std::to_string(views_.size()) + " views through correspondence maps (" +
+         std::to_string(width_) + " x " + std::to_string(height_) + " reference pixels)";
+}
+
+PixelObservations CorrespondenceSource::Rows(int y0, int rows) {
+  PixelObservations obs;
+  const int nviews = int(views_.size());
+  obs.Resize(rows * width_, nviews);
+  obs.width = width_;
+  for (int v = 0; v < nviews; ++v) {
+    const SessionView& view = views_[std::size_t(v)];
+    const FloatPlanes& m = view.correspondence;
+    const auto &x = m.Plane("x", view.name), &y = m.Plane("y", view.name);
+    const auto& visible = m.Plane("visible", view.name);
+    const auto &sx = m.Plane("sample.x", view.name), &sy = m.Plane("sample.y", view.name);
+    const auto &ix = m.Plane("wi.x", view.name), &iy = m.Plane("wi.y", view.name),
+               &iz = m.Plane("wi.z", view.name);
+    const auto &ox = m.Plane("wo.x", view.name), &oy = m.Plane("wo.y", view.name),
+               &oz = m.Plane("wo.z", view.name);
+    const bool spectralon = !view.spectralon[0].radiance.empty();
+#pragma omp parallel for schedule(static)
+    for (int p = 0; p < rows * width_; ++p) {
+      const std::size_t q = std::size_t(y0) * std::size_t(width_) + std::size_t(p);
+      const std::size_t at = obs.At(p, v);
+      obs.light[at] = Eigen::Vector3f(ix[q], iy[q], iz[q]);
+      obs.camera[at] = Eigen::Vector3f(ox[q], oy[q], oz[q]);
+      if (!(visible[q] > 0.5f) || !std::isfinite(x[q])) continue;  // stays NaN: dropped
+      const Eigen::Vector3d point(sx[q], sy[q], 0);
+      const double r = (view.light_in_sample_mm - point).norm();
+      for (int c = 0; c < 3; ++c) {
+        const float L = Sample(view.sample[c], x[q], y[q]);
+        if (!std::isfinite(L)) continue;
+        double f;
+        if (spectralon) {
+          const float Ls = Sample(view.spectralon[c], x[q], y[q]);
+          f = std::isfinite(Ls) ? BrdfFromSpectralon(L, Ls) : std::nan("");
+        } else {
+          f = BrdfFromPointLight(L, view.light_intensity, r, iz[q]);
+        }
+        obs.rgb[3 * at + std::size_t(c)] = float(f);
+      }
+    }
+  }
+  return obs;
+}
+
+}  // namespace acq

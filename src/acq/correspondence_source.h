@@ -1,0 +1,61 @@
+// Observations of a real (or simulated) session (issues 4 and 7): for each reference-view pixel
+// and each view, the view's HDR radiance sampled where the pixel's sample point lands (the
+// correspondence map of that view, calib/correspondence.h), turned into a BRDF value with the
+// radiometric calibration, with the pixel's own light and view directions from the map.
+//
+// Radiometry (brdf/radiometry.h): with a Spectralon capture of the view (same pose, same light),
+// f = R L / (pi L_spectralon) sampled at the same image position, so the light need not be known;
+// without one, the point-light model f = L r^2 / (I cos(theta_i)) with the light's intensity I
+// and its distance r from the pixel's sample point. An observation is dropped for that pixel
+// (NaN, never a number) when the point is not visible in the view, its position falls off the
+// image, or any of the four pixels it is interpolated from was saturated or in the noise floor
+// in every frame of the bracket.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "brdf/pixel_solver.h"
+#include "io/float_planes_exr.h"
+
+namespace acq {
+
+// One colour channel of one view: an HDR image (linear, any consistent unit) and its flags.
+struct ViewImage {
+  int width = 0, height = 0;
+  std::vector<float> radiance;
+  std::vector<std::uint8_t> unusable;  // non-zero: saturated or dark in every frame (may be empty)
+};
+
+struct SessionView {
+  FloatPlanes correspondence;           // the planes of calib/correspondence.h
+  std::array<ViewImage, 3> sample;      // R, G, B (a mono camera: the same image thrice)
+  std::array<ViewImage, 3> spectralon;  // empty radiance: use the point-light model
+  Eigen::Vector3d light_in_sample_mm = Eigen::Vector3d(0, 0, 1000);
+  double light_intensity = 1;  // radiance units x mm^2, for the point-light model
+  std::string name;            // for messages ("view 7", a file name)
+};
+
+class CorrespondenceSource : public ObservationSource {
+ public:
+  // Throws UserError naming the view when maps differ in size or lack a plane, or images are
+  // inconsistent.
+  CorrespondenceSource(std::vector<SessionView> views, double pixel_size_mm);
+
+  int Width() const override { return width_; }
+  int Height() const override { return height_; }
+  double PixelSizeMm() const override { return pixel_size_mm_; }
+  std::string Describe() const override;
+  PixelObservations Rows(int y0, int rows) override;
+
+ private:
+  std::vector<SessionView> views_;
+  int width_ = 0, height_ = 0;
+  double pixel_size_mm_ = 0;
+};
+
+}  // namespace acq
