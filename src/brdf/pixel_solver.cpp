@@ -59,22 +59,65 @@ struct ViewRows {
   }
 };
 
+// Extreme eigenvalues of a symmetric positive definite matrix a (with its Cholesky factor) by
+// power iteration and inverse iteration, measured by their Rayleigh quotients. A Rayleigh
+// quotient's error is second order in the iterate's error, so a dozen steps give the condition
+// number to well under a percent on these 20 x 20 normal matrices (checked against a full
+// eigendecomposition in the tests), at a fraction of the cost of one: the eigensolver was the
+// largest single cost of the per-pixel solve.
+double ConditionSquared(const Eigen::MatrixXd& a, const Eigen::LLT<Eigen::MatrixXd>& llt,
+                        Eigen::VectorXd& v, Eigen::VectorXd& w) {
+  constexpr int kSteps = 12;
+  const int k = int(a.rows());
+  v.setConstant(k, 1.0 / std::sqrt(double(k)));
+  double largest = 0;
+  for (int i = 0; i < kSteps; ++i) {
+    w.noalias() = a.selfadjointView<Eigen::Lower>() * v;
+    largest = v.dot(w);
+    v = w / w.norm();
+  }
+  v.setConstant(k, 1.0 / std::sqrt(double(k)));
+  for (int i = 0; i < kSteps; ++i) {
+    w = llt.solve(v);
+    v = w / w.norm();
+  }
+  w.noalias() = a.selfadjointView<Eigen::Lower>() * v;
+  const double smallest = v.dot(w);
+  return largest / smallest;
+}
+
+}  // namespace
+
+double EstimateConditionNumber(const Eigen::MatrixXd& normal) {
+  Eigen::LLT<Eigen::MatrixXd> llt(normal);
+  if (llt.info() != Eigen::Success) return std::numeric_limits<double>::infinity();
+  Eigen::VectorXd v, w;
+  return std::sqrt(ConditionSquared(normal, llt, v, w));
+}
+
+namespace {
+
 // Factorisation of one set of sampled rows, reused while the set of views stays the same.
+// Buffers live as long as the worker thread, so a pixel allocates nothing.
 struct Factor {
   std::vector<std::uint8_t> views;  // which views the rows came from
-  Eigen::LLT<Eigen::MatrixXd> llt;
+  Eigen::LLT<Eigen::MatrixXd> llt, plain;
+  Eigen::MatrixXd normal;
+  Eigen::VectorXd v, w;
   double condition = 0;
   void Compute(const Eigen::Ref<const RowMatrix>& q, int k, double eta) {
     const int n = int(q.rows());
-    Eigen::MatrixXd normal = Eigen::MatrixXd::Zero(k, k);
+    normal.setZero(k, k);
     normal.selfadjointView<Eigen::Lower>().rankUpdate(q.transpose());
-    // The condition number needs only the eigenvalues (no vectors: several times cheaper); the
-    // solve is a Cholesky factorisation of the ridge-regularised normal matrix.
-    const Eigen::VectorXd ev =
-        Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(normal, Eigen::EigenvaluesOnly)
-            .eigenvalues();
-    condition = n < k || !(ev(0) > 0) ? std::numeric_limits<double>::infinity()
-                                      : std::sqrt(ev(k - 1) / ev(0));
+    // The condition number of the rows from the normal matrix's extreme eigenvalues (fewer rows
+    // than unknowns, or a matrix that is not positive definite: infinite); the solve is a
+    // Cholesky factorisation of the ridge-regularised normal matrix.
+    plain.compute(normal);
+    condition = n < k || plain.info() != Eigen::Success
+                    ? std::numeric_limits<double>::infinity()
+                    : std::sqrt(ConditionSquared(normal, plain, v, w));
+    if (!std::isfinite(condition) || condition <= 0)
+      condition = std::numeric_limits<double>::infinity();
     normal.diagonal().array() += eta;
     llt.compute(normal);
   }

@@ -41,6 +41,11 @@ class ObservationSource {
   virtual PixelObservations Rows(int y0, int rows) = 0;
 };
 
+// The condition number of rows Q from their normal matrix Q^T Q (lower triangle used), as the
+// per-pixel solve estimates it: the square root of the ratio of its extreme eigenvalues, by power
+// and inverse iteration. Infinite when Q^T Q is not positive definite.
+double EstimateConditionNumber(const Eigen::MatrixXd& normal);
+
 struct PixelSolveOptions {
   int components = 20;  // k
   double eta = 40.0;
