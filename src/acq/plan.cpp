@@ -1,0 +1,293 @@
+#include "acq/plan.h"
+
+#include <yaml-cpp/yaml.h>
+
+#include <filesystem>
+#include <functional>
+#include <set>
+
+#include "core/angles.h"
+#include "core/error.h"
+
+namespace acq {
+namespace {
+
+namespace fs = std::filesystem;
+
+// A YAML mapping with what the plan allows in it; every access checks type and names the place.
+class Section {
+ public:
+  Section(const YAML::Node& node, std::string file, std::string name, std::set<std::string> keys)
+      : node_(node), file_(std::move(file)), name_(std::move(name)), keys_(std::move(keys)) {
+    if (!node_.IsMap())
+      throw UserError(Where(node_), (name_.empty() ? "the plan" : name_) + " must be a mapping",
+                      "write it as `key: value` lines (docs/session-and-plan.md)");
+    for (const auto& kv : node_) {
+      const std::string key = kv.first.as<std::string>();
+      if (!keys_.count(key)) {
+        std::string known;
+        for (const std::string& k : keys_) known += (known.empty() ? "" : ", ") + k;
+        throw UserError(Where(kv.first), "unknown key '" + Qualified(key) + "'",
+                        "the keys here are: " + known + " (a misspelling?)");
+      }
+    }
+  }
+
+  bool Has(const std::string& key) const { return bool(node_[key]); }
+  std::string Where(const YAML::Node& n) const {
+    const YAML::Mark m = n.Mark();
+    return file_ + ":" + std::to_string(m.line + 1) + ":" + std::to_string(m.column + 1);
+  }
+  std::string Where(const std::string& key) const {
+    return Has(key) ? Where(node_[key]) : Where(node_);
+  }
+  std::string Qualified(const std::string& key) const {
+    return name_.empty() ? key : name_ + "." + key;
+  }
+
+  template <class T>
+  T Get(const std::string& key, const T& fallback, const char* type_name) const {
+    const YAML::Node n = node_[key];
+    if (!n) return fallback;
+    try {
+      if (!n.IsScalar()) throw YAML::Exception(n.Mark(), "not a scalar");
+      return n.as<T>();
+    } catch (const YAML::Exception&) {
+      throw UserError(Where(n), Qualified(key) + " must be " + type_name + ", not '" +
+                                    (n.IsScalar() ? n.Scalar() : std::string("a list or map")) +
+                                    "'");
+    }
+  }
+  double Number(const std::string& key, double fallback) const {
+    return Get<double>(key, fallback, "a number");
+  }
+  int Integer(const std::string& key, int fallback) const {
+    return Get<int>(key, fallback, "a whole number");
+  }
+  std::string Text(const std::string& key, const std::string& fallback = {}) const {
+    return Get<std::string>(key, fallback, "text");
+  }
+  bool Flag(const std::string& key, bool fallback) const {
+    return Get<bool>(key, fallback, "true or false");
+  }
+  std::string Required(const std::string& key) const {
+    if (!Has(key))
+      throw UserError(Where(node_), "missing '" + Qualified(key) + "'",
+                      "add it (docs/session-and-plan.md; examples/ has annotated plans)");
+    return Text(key);
+  }
+  std::vector<double> Numbers(const std::string& key) const {
+    const YAML::Node n = node_[key];
+    if (!n) return {};
+    if (!n.IsSequence())
+      throw UserError(Where(n), Qualified(key) + " must be a list of numbers, like [1000, 8000]");
+    std::vector<double> out;
+    for (const YAML::Node& e : n) {
+      try {
+        out.push_back(e.as<double>());
+      } catch (const YAML::Exception&) {
+        throw UserError(Where(e), Qualified(key) + " must hold numbers, not '" +
+                                      (e.IsScalar() ? e.Scalar() : std::string("a list or map")) +
+                                      "'");
+      }
+    }
+    return out;
+  }
+  Section Child(const std::string& key, std::set<std::string> keys) const {
+    const YAML::Node n = node_[key];
+    return Section(n ? n : YAML::Node(YAML::NodeType::Map), file_, Qualified(key), std::move(keys));
+  }
+  // Runs `check`; a UserError it throws is re-thrown at this key's place.
+  void At(const std::string& key, const std::function<void()>& check) const {
+    try {
+      check();
+    } catch (const UserError& e) {
+      throw UserError(Where(key), Qualified(key) + ": " + e.problem(), e.fix());
+    }
+  }
+
+ private:
+  YAML::Node node_;
+  std::string file_, name_;
+  std::set<std::string> keys_;
+};
+
+std::string Resolve(const std::string& plan_path, const std::string& p) {
+  if (p.empty() || fs::path(p).is_absolute()) return p;
+  return (fs::path(plan_path).parent_path() / p).lexically_normal().string();
+}
+
+void RequireFile(const Section& s, const std::string& key, const std::string& path,
+                 const std::string& fix) {
+  if (!fs::is_regular_file(path))
+    throw UserError(s.Where(key), s.Qualified(key) + ": no such file " + path, fix);
+}
+
+}  // namespace
+
+const char* BackendName(Backend b) {
+  switch (b) {
+    case Backend::kSim:
+      return "sim";
+    case Backend::kUsbAravis:
+      return "usb+aravis";
+    case Backend::kReplay:
+      return "replay";
+  }
+  return "?";
+}
+
+Plan LoadPlan(const std::string& path) {
+  YAML::Node root;
+  try {
+    root = YAML::LoadFile(path);
+  } catch (const YAML::BadFile&) {
+    throw UserError(path, "cannot read the plan", "check the path");
+  } catch (const YAML::ParserException& e) {
+    throw UserError(
+        path + ":" + std::to_string(e.mark.line + 1) + ":" + std::to_string(e.mark.column + 1),
+        "not valid YAML: " + e.msg, "check the indentation and the brackets there");
+  }
+  Plan plan;
+  plan.path = path;
+  const Section top(root, path, "",
+                    {"version", "backend", "output", "replay", "sample", "gantry", "camera",
+                     "directions", "calibration", "spectralon", "reconstruction"});
+  if (top.Integer("version", 1) != 1)
+    throw UserError(top.Where("version"), "plan version " + top.Text("version") + " is not known",
+                    "this acqd reads version 1");
+  const std::string backend = top.Required("backend");
+  if (backend == "sim")
+    plan.backend = Backend::kSim;
+  else if (backend == "usb+aravis")
+    plan.backend = Backend::kUsbAravis;
+  else if (backend == "replay")
+    plan.backend = Backend::kReplay;
+  else
+    throw UserError(top.Where("backend"), "unknown backend '" + backend + "'",
+                    "use sim, usb+aravis or replay");
+  plan.output = Resolve(path, top.Required("output"));
+  if (plan.backend == Backend::kReplay) {
+    plan.replay_session = Resolve(path, top.Required("replay"));
+    if (!fs::is_directory(plan.replay_session))
+      throw UserError(top.Where("replay"), "no session directory " + plan.replay_session,
+                      "give the directory of a recorded session");
+  }
+
+  const Section sample = top.Child("sample", {"size_mm"});
+  const std::vector<double> size = sample.Numbers("size_mm");
+  if (!size.empty()) {
+    if (size.size() != 2 || !(size[0] > 0) || !(size[1] > 0))
+      throw UserError(sample.Where("size_mm"), "sample.size_mm must be two positive numbers",
+                      "width and height of the sample in mm, like [70, 70]");
+    plan.sample_width_mm = size[0];
+    plan.sample_height_mm = size[1];
+  }
+
+  const Section gantry =
+      top.Child("gantry", {"usb", "limits", "axes", "camera_distance_mm", "light_distance_mm"});
+  const Section usb = gantry.Child("usb", {"vid", "pid", "serial"});
+  plan.usb.vendor_id = std::uint16_t(usb.Integer("vid", plan.usb.vendor_id));
+  plan.usb.product_id = std::uint16_t(usb.Integer("pid", plan.usb.product_id));
+  plan.usb.serial = usb.Text("serial");
+  usb.At("vid", [&] { plan.usb.Check(); });
+  const Section limits = gantry.Child(
+      "limits", {"max_camera_zenith_deg", "max_light_zenith_deg", "min_separation_deg"});
+  DirectionConstraints& c = plan.motion.constraints;
+  c.max_camera_zenith =
+      DegToRad(limits.Number("max_camera_zenith_deg", RadToDeg(c.max_camera_zenith)));
+  c.max_light_zenith =
+      DegToRad(limits.Number("max_light_zenith_deg", RadToDeg(c.max_light_zenith)));
+  c.min_separation = DegToRad(limits.Number("min_separation_deg", RadToDeg(c.min_separation)));
+  gantry.At("limits", [&] { c.Check(); });
+  const Section axes = gantry.Child("axes", {"theta_speed_deg_s", "theta_accel_deg_s2",
+                                             "phi_speed_deg_s", "phi_accel_deg_s2", "settle_s"});
+  GantryMotion& m = plan.motion;
+  m.theta.speed = DegToRad(axes.Number("theta_speed_deg_s", RadToDeg(m.theta.speed)));
+  m.theta.acceleration =
+      DegToRad(axes.Number("theta_accel_deg_s2", RadToDeg(m.theta.acceleration)));
+  m.phi.speed = DegToRad(axes.Number("phi_speed_deg_s", RadToDeg(m.phi.speed)));
+  m.phi.acceleration = DegToRad(axes.Number("phi_accel_deg_s2", RadToDeg(m.phi.acceleration)));
+  m.settle_s = axes.Number("settle_s", m.settle_s);
+  gantry.At("axes", [&] { m.Check(); });
+  plan.camera_distance_mm = gantry.Number("camera_distance_mm", plan.camera_distance_mm);
+  plan.light_distance_mm = gantry.Number("light_distance_mm", plan.light_distance_mm);
+  for (const char* key : {"camera_distance_mm", "light_distance_mm"})
+    if (!(gantry.Number(key, 1) > 0))
+      throw UserError(gantry.Where(key), gantry.Qualified(key) + " must be positive");
+
+  const Section camera = top.Child("camera", {"id", "pixel_format", "gain_db", "hdr"});
+  plan.camera_id = camera.Text("id");
+  camera.At("pixel_format", [&] {
+    plan.camera.pixel_format = ParsePixelFormat(camera.Text("pixel_format", "Mono16"), "");
+  });
+  plan.camera.gain_db = camera.Number("gain_db", 0);
+  const Section hdr = camera.Child("hdr", {"bracket_us", "auto"});
+  plan.bracket_us = hdr.Numbers("bracket_us");
+  plan.auto_bracket = hdr.Flag("auto", plan.bracket_us.empty());
+  if (plan.auto_bracket && !plan.bracket_us.empty())
+    throw UserError(hdr.Where("auto"), "camera.hdr has both auto and bracket_us",
+                    "choose one: a fixed bracket or the automatic one");
+  for (double t : plan.bracket_us)
+    if (!(t >= 10 && t <= 1e7))
+      throw UserError(
+          hdr.Where("bracket_us"),
+          "camera.hdr.bracket_us: exposure " + std::to_string(t) + " us is outside 10 us to 10 s",
+          "exposures are in microseconds");
+  if (plan.backend == Backend::kUsbAravis && plan.camera_id.empty())
+    throw UserError(camera.Where("id"), "the usb+aravis backend needs camera.id",
+                    "`arv-tool-0.8` lists the cameras and their ids");
+  plan.camera.exposure_us = plan.bracket_us.empty() ? 10000 : plan.bracket_us.front();
+  camera.At("gain_db", [&] { plan.camera.Check(""); });
+
+  const Section directions = top.Child("directions", {"file"});
+  plan.directions_file = Resolve(path, directions.Required("file"));
+  RequireFile(directions, "file", plan.directions_file,
+              "give a directions TSV (acq directions optimize writes one)");
+  plan.directions = ReadDirectionsTsv(plan.directions_file);  // errors name file:line
+  if (plan.directions.empty())
+    throw UserError(directions.Where("file"), "no directions in " + plan.directions_file);
+  CheckReachable(plan.directions, plan.motion);  // names the direction's file:line and the rule
+
+  const Section calibration = top.Child("calibration", {"intrinsics_captures", "board"});
+  plan.intrinsics_captures = calibration.Integer("intrinsics_captures", plan.intrinsics_captures);
+  if (plan.intrinsics_captures < 3)
+    throw UserError(calibration.Where("intrinsics_captures"),
+                    "calibration.intrinsics_captures must be at least 3", "20 to 40 is usual");
+  const Section board = calibration.Child("board", {"size", "spacing_mm"});
+  const std::vector<double> board_size = board.Numbers("size");
+  if (!board_size.empty()) {
+    if (board_size.size() != 2 || board_size[0] < 2 || board_size[1] < 2)
+      throw UserError(board.Where("size"), "calibration.board.size must be two counts >= 2",
+                      "inner corners across and down, like [10, 10]");
+    plan.board_width_n = int(board_size[0]);
+    plan.board_height_n = int(board_size[1]);
+  }
+  plan.board_spacing_mm = board.Number("spacing_mm", plan.board_spacing_mm);
+  if (!(plan.board_spacing_mm > 0))
+    throw UserError(board.Where("spacing_mm"), "calibration.board.spacing_mm must be positive");
+  plan.spectralon = top.Flag("spectralon", true);
+
+  const Section recon = top.Child("reconstruction", {"basis", "k", "eta", "lookup", "row_tile"});
+  plan.basis_file = Resolve(path, recon.Required("basis"));
+  RequireFile(recon, "basis", plan.basis_file, "build one with `acq basis build` (README)");
+  plan.components = recon.Integer("k", plan.components);
+  plan.eta = recon.Number("eta", plan.eta);
+  plan.row_tile = recon.Integer("row_tile", plan.row_tile);
+  const std::string lookup = recon.Text("lookup", "nearest");
+  if (lookup == "nearest")
+    plan.lookup = RowLookup::kNearest;
+  else if (lookup == "interpolated")
+    plan.lookup = RowLookup::kInterpolated;
+  else
+    throw UserError(recon.Where("lookup"), "reconstruction.lookup '" + lookup + "' is not known",
+                    "use nearest or interpolated");
+  if (plan.components < 1 || plan.components > 64)
+    throw UserError(recon.Where("k"), "reconstruction.k must be in 1..64");
+  if (!(plan.eta >= 0)) throw UserError(recon.Where("eta"), "reconstruction.eta must be >= 0");
+  if (plan.row_tile < 1)
+    throw UserError(recon.Where("row_tile"), "reconstruction.row_tile must be >= 1");
+  return plan;
+}
+
+}  // namespace acq

@@ -1,0 +1,56 @@
+// The plan (issue 8; docs/session-and-plan.md): one YAML file that says everything a session
+// does. Loaded and validated completely before anything moves: unknown keys, wrong types, values
+// out of range, missing files, directions the gantry cannot take; every error names
+// file:line:column and says what to do.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "acq/move_planner.h"
+#include "brdf/basis_rows.h"
+#include "brdf/directions.h"
+#include "hw/camera.h"
+#include "hw/usb_transport.h"
+
+namespace acq {
+
+enum class Backend { kSim, kUsbAravis, kReplay };
+const char* BackendName(Backend b);
+
+struct Plan {
+  std::string path;  // the plan file; relative paths in it are relative to its folder
+  Backend backend = Backend::kSim;
+  std::string output;          // the session directory
+  std::string replay_session;  // kReplay: the recorded session served again
+  double sample_width_mm = 70, sample_height_mm = 70;
+
+  UsbDeviceId usb;
+  GantryMotion motion;
+  double camera_distance_mm = 1000, light_distance_mm = 1000;
+
+  std::string camera_id;  // Aravis device id (usb+aravis); the simulated camera's otherwise
+  CameraSettings camera;
+  std::vector<double> bracket_us;  // empty: automatic bracket
+  bool auto_bracket = false;
+
+  std::string directions_file;
+  std::vector<Direction> directions;
+
+  int intrinsics_captures = 30;
+  int board_width_n = 10, board_height_n = 10;
+  double board_spacing_mm = 20;
+  bool spectralon = true;
+
+  std::string basis_file;
+  int components = 20;
+  double eta = 40;
+  RowLookup lookup = RowLookup::kNearest;
+  int row_tile = 8;
+};
+
+// Reads and validates; throws UserError ("plan.yaml:12:5: ...") at the first problem. Checks
+// that the directions can be taken (reach and collision rules) but opens no device.
+Plan LoadPlan(const std::string& path);
+
+}  // namespace acq

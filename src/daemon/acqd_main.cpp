@@ -1,0 +1,132 @@
+// acqd: runs a capture session from a plan (issue 8).
+//
+// Built so far: the plan is loaded and validated completely before anything is opened or moved
+// (every error with file:line:column and the fix), and `--dry-run` prints the schedule, the
+// collision-checked visiting order and the estimated time. Without --dry-run the backend's
+// devices are opened (so a missing gantry or camera is reported before any motion); the capture
+// sequencer itself is not built yet and acqd says so.
+#include <cstdio>
+#include <cstring>
+#include <memory>
+#include <string>
+
+#include "acq/move_planner.h"
+#include "acq/plan.h"
+#include "core/angles.h"
+#include "core/error.h"
+#include "hw/aravis_camera.h"
+#include "hw/protocol_gantry.h"
+#include "hw/usb_transport.h"
+
+namespace acq {
+namespace {
+
+constexpr const char* kUsage =
+    "usage: acqd --session PLAN.yaml [--dry-run]\n"
+    "  --dry-run   validate the plan, print the schedule, the visiting order and the estimated\n"
+    "              time; open no device, move nothing\n";
+
+// Per frame, beyond its exposure: trigger, readout and transfer of a frame over GigE Vision
+// (measured: 0.06 s for 2048 x 2048 Mono16 on loopback; a real link is slower) plus the
+// exposure change. An estimate for planning, not a promise.
+constexpr double kFrameOverheadS = 0.15;
+
+void PrintDryRun(const Plan& plan) {
+  std::printf("plan %s: backend %s, session directory %s\n", plan.path.c_str(),
+              BackendName(plan.backend), plan.output.c_str());
+  std::printf("sample %.0f x %.0f mm; %zu directions from %s; basis %s (k = %d)\n\n",
+              plan.sample_width_mm, plan.sample_height_mm, plan.directions.size(),
+              plan.directions_file.c_str(), plan.basis_file.c_str(), plan.components);
+  const VisitPlan visit = PlanShortest(plan.directions, plan.motion);
+  const VisitPlan naive = PlanInFileOrder(plan.directions, plan.motion);
+  std::printf("visiting order (collision-checked, from home):\n");
+  std::printf("%4s  %-36s %9s %9s %9s %9s %8s\n", "step", "direction", "light_th", "light_ph",
+              "cam_th", "cam_ph", "move_s");
+  for (std::size_t i = 0; i < visit.poses.size(); ++i) {
+    const PlannedPose& p = visit.poses[i];
+    std::printf("%4zu  %-36s %9.2f %9.2f %9.2f %9.2f %8.2f\n", i + 1,
+                plan.directions[p.index].where.c_str(), RadToDeg(p.arms.light_theta),
+                RadToDeg(p.arms.light_phi), RadToDeg(p.arms.camera_theta),
+                RadToDeg(p.arms.camera_phi), p.move_s);
+  }
+  const std::size_t poses = plan.directions.size();
+  const std::size_t bracket = plan.auto_bracket ? 5 : plan.bracket_us.size();
+  double exposure_s = 0;
+  for (double t : plan.bracket_us) exposure_s += t / 1e6;
+  if (plan.auto_bracket) exposure_s = 0.35;  // 5 frames of 2-stop steps from ~1 ms, probes
+  const double sample_s = double(poses) * (exposure_s + double(bracket) * kFrameOverheadS);
+  const double board_s = double(poses) * (0.01 + kFrameOverheadS);  // one board frame a pose
+  const double spectralon_s = plan.spectralon ? sample_s : 0;
+  const double intrinsics_s = plan.intrinsics_captures * (0.01 + kFrameOverheadS);
+  std::printf("\nschedule:\n");
+  std::printf("  1. home the gantry\n");
+  std::printf("  2. intrinsics: %d board captures (operator places the board; `acqctl confirm`)\n",
+              plan.intrinsics_captures);
+  std::printf("  3. per pose: one board capture for cam_from_sample (board on the sample plane)\n");
+  std::printf("  4. per pose: the sample, %s bracket of %zu frames\n",
+              plan.auto_bracket ? "automatic" : "fixed", bracket);
+  if (plan.spectralon) std::printf("  5. per pose: the Spectralon board, same bracket\n");
+  std::printf(
+      "  6. processing: calibration, correspondence, HDR merge, reconstruction, renders, "
+      "report\n");
+  std::printf("\nestimated time (one pass over the poses per stage):\n");
+  const double motion_s = visit.total_s * (plan.spectralon ? 3 : 2);
+  std::printf("  motion and settling  %8.1f s  (%zu poses, %.1f s a pass; file order %.1f s)\n",
+              motion_s, poses, visit.total_s, naive.total_s);
+  std::printf("  sample frames        %8.1f s\n", sample_s);
+  std::printf("  Spectralon frames    %8.1f s\n", spectralon_s);
+  std::printf("  calibration frames   %8.1f s\n", board_s + intrinsics_s);
+  std::printf("  total (before processing, without operator time) %.1f s\n",
+              motion_s + sample_s + spectralon_s + board_s + intrinsics_s);
+}
+
+int Run(int argc, char** argv) {
+  std::string session;
+  bool dry_run = false;
+  for (int i = 1; i < argc; ++i) {
+    if (!std::strcmp(argv[i], "--session") && i + 1 < argc)
+      session = argv[++i];
+    else if (!std::strcmp(argv[i], "--dry-run"))
+      dry_run = true;
+    else if (!std::strcmp(argv[i], "--help") || !std::strcmp(argv[i], "-h")) {
+      std::fputs(kUsage, stdout);
+      return 0;
+    } else {
+      std::fprintf(stderr, "acqd: unknown argument '%s'\n%s", argv[i], kUsage);
+      return 1;
+    }
+  }
+  if (session.empty()) {
+    std::fputs(kUsage, stderr);
+    return 1;
+  }
+  const Plan plan = LoadPlan(session);
+  if (dry_run) {
+    PrintDryRun(plan);
+    return 0;
+  }
+  if (plan.backend == Backend::kUsbAravis) {
+    // Opened before anything moves: an absent or wrong device ends here, with its own message.
+    UsbTransport transport(plan.usb);
+    ProtocolGantry gantry(transport);
+    AravisCameraOptions camera_options;
+    camera_options.id = plan.camera_id;
+    AravisCamera camera(camera_options);
+  }
+  throw UserError("acqd",
+                  std::string("the capture sequencer for the ") + BackendName(plan.backend) +
+                      " backend is not built yet (issue 8)",
+                  "use --dry-run to check a plan; the stages run offline with `acq`");
+}
+
+}  // namespace
+}  // namespace acq
+
+int main(int argc, char** argv) {
+  try {
+    return acq::Run(argc, argv);
+  } catch (const acq::UserError& e) {
+    std::fprintf(stderr, "error: %s\n", e.what());
+    return 1;
+  }
+}
