@@ -1,0 +1,65 @@
+// The session's catalog (issue 8; docs/session-and-plan.md): which steps are done and which
+// frames exist, in SQLite, written so that a crash at any instant (kill -9, power cut) leaves a
+// consistent session. The rules: a file is written under a temporary name and renamed into
+// place first; its row (with the file's SHA-256) is committed after; a row exists only for a
+// complete file. On resume, VerifyAndRepair() checks every row's file against its checksum and
+// removes files that no row names (a crash between the rename and the commit), so nothing is
+// taken as done that is not, and nothing is recorded twice.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+struct sqlite3;
+
+namespace acq {
+
+struct CatalogFrame {
+  std::string step;  // "sample", "spectralon", "board", "intrinsics"
+  int pose = 0;      // index in the visiting order (or capture number)
+  double exposure_us = 0;
+  std::string path;  // relative to the session directory (frames/...)
+  std::string sha256;
+  std::int64_t bytes = 0;
+};
+
+class SessionCatalog {
+ public:
+  // Opens or creates <session>/catalog.sqlite (WAL journal, full synchronisation: a committed
+  // row survives a power cut). Throws UserError naming the file when it cannot.
+  explicit SessionCatalog(const std::string& session_dir);
+  ~SessionCatalog();
+  SessionCatalog(const SessionCatalog&) = delete;
+  SessionCatalog& operator=(const SessionCatalog&) = delete;
+
+  const std::string& directory() const { return dir_; }
+  // Records a frame whose file is already in place; computes its checksum and size. Throws
+  // UserError when the same (step, pose, exposure) is already recorded: a frame is never
+  // recorded twice.
+  void RecordFrame(CatalogFrame frame);
+  bool HasFrame(const std::string& step, int pose, double exposure_us) const;
+  std::vector<CatalogFrame> Frames() const;
+
+  void MarkStepDone(const std::string& step);
+  bool StepDone(const std::string& step) const;
+  void Event(const std::string& level, const std::string& message);
+
+  struct Repair {
+    int verified = 0;
+    std::vector<std::string> bad;      // rows whose file was missing or changed: removed
+    std::vector<std::string> orphans;  // files under frames/ that no row names: removed
+  };
+  Repair VerifyAndRepair();
+
+ private:
+  void Exec(const char* sql) const;
+  std::string dir_, path_;
+  sqlite3* db_ = nullptr;
+};
+
+// Writes `bytes` to `path` as the catalog requires: to path + ".partial", flushed to disk, then
+// renamed over `path` (atomic on POSIX), then the directory synced.
+void WriteFileAtomically(const std::string& path, const void* bytes, std::size_t n);
+
+}  // namespace acq
