@@ -38,6 +38,15 @@ void GantryMotion::Check() const {
   constraints.Check();
 }
 
+void GantryMotion::ReadAxes(
+    const std::function<double(const std::string& name, double fallback)>& get) {
+  theta.speed = DegToRad(get("theta_speed_deg_s", RadToDeg(theta.speed)));
+  theta.acceleration = DegToRad(get("theta_accel_deg_s2", RadToDeg(theta.acceleration)));
+  phi.speed = DegToRad(get("phi_speed_deg_s", RadToDeg(phi.speed)));
+  phi.acceleration = DegToRad(get("phi_accel_deg_s2", RadToDeg(phi.acceleration)));
+  settle_s = get("settle_s", settle_s);
+}
+
 double GantryMotion::MoveSeconds(const ArmAngles& a, const ArmAngles& b) const {
   return std::max({theta.Duration(b.light_theta - a.light_theta),
                    phi.Duration(WrapDelta(b.light_phi - a.light_phi)),

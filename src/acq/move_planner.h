@@ -9,6 +9,7 @@
 // the moves.
 #pragma once
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -29,6 +30,11 @@ struct GantryMotion {
   int phi_h_steps = 72;  // azimuths tried per pose (every 5 degrees)
 
   void Check() const;  // throws UserError
+  // Sets the axis speeds, accelerations and settle time from a source of named values in the
+  // user's units (theta_speed_deg_s, theta_accel_deg_s2, phi_speed_deg_s, phi_accel_deg_s2,
+  // settle_s): the plan's keys and, with '-' for '_', the CLI's flags. `get` returns the value
+  // or the fallback it is given (the current one) when the name is absent.
+  void ReadAxes(const std::function<double(const std::string& name, double fallback)>& get);
   double MoveSeconds(const ArmAngles& from, const ArmAngles& to) const;
   // Empty when every point of the straight move (in axis space) keeps the constraints, else why.
   std::string MoveViolation(const ArmAngles& from, const ArmAngles& to) const;

@@ -203,12 +203,7 @@ Plan LoadPlan(const std::string& path) {
   const Section axes = gantry.Child("axes", {"theta_speed_deg_s", "theta_accel_deg_s2",
                                              "phi_speed_deg_s", "phi_accel_deg_s2", "settle_s"});
   GantryMotion& m = plan.motion;
-  m.theta.speed = DegToRad(axes.Number("theta_speed_deg_s", RadToDeg(m.theta.speed)));
-  m.theta.acceleration =
-      DegToRad(axes.Number("theta_accel_deg_s2", RadToDeg(m.theta.acceleration)));
-  m.phi.speed = DegToRad(axes.Number("phi_speed_deg_s", RadToDeg(m.phi.speed)));
-  m.phi.acceleration = DegToRad(axes.Number("phi_accel_deg_s2", RadToDeg(m.phi.acceleration)));
-  m.settle_s = axes.Number("settle_s", m.settle_s);
+  m.ReadAxes([&](const std::string& key, double fallback) { return axes.Number(key, fallback); });
   gantry.At("axes", [&] { m.Check(); });
   plan.camera_distance_mm = gantry.Number("camera_distance_mm", plan.camera_distance_mm);
   plan.light_distance_mm = gantry.Number("light_distance_mm", plan.light_distance_mm);

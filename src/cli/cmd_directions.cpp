@@ -1,3 +1,4 @@
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -208,12 +209,10 @@ int DirectionsPlan(const Argv& argv) {
                   {});
   const std::vector<Direction> directions = ReadDirectionsTsv(args.Required("directions"));
   GantryMotion m;
-  m.theta.speed = DegToRad(args.GetDouble("theta-speed-deg-s", RadToDeg(m.theta.speed)));
-  m.theta.acceleration =
-      DegToRad(args.GetDouble("theta-accel-deg-s2", RadToDeg(m.theta.acceleration)));
-  m.phi.speed = DegToRad(args.GetDouble("phi-speed-deg-s", RadToDeg(m.phi.speed)));
-  m.phi.acceleration = DegToRad(args.GetDouble("phi-accel-deg-s2", RadToDeg(m.phi.acceleration)));
-  m.settle_s = args.GetDouble("settle-s", m.settle_s);
+  m.ReadAxes([&](std::string name, double fallback) {
+    std::replace(name.begin(), name.end(), '_', '-');
+    return args.GetDouble(name, fallback);
+  });
   m.phi_h_steps = args.GetInt("azimuth-steps", m.phi_h_steps);
   m.constraints = ConstraintsFrom(args);
   m.Check();
