@@ -194,7 +194,10 @@ void AravisCamera::Work() {
 
 void AravisCamera::Apply(const CameraSettings& settings) {
   settings.Check("camera settings");
-  settings_ = settings;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);  // the worker stamps frames with settings_
+    settings_ = settings;
+  }
   have_settings_ = true;
   ApplyToDevice();
 }
@@ -230,7 +233,10 @@ void AravisCamera::ApplyToDevice() {
                     "asked for an exposure of " + std::to_string(settings_.exposure_us) +
                         " us, the camera took " + std::to_string(exposure) + " us",
                     "use an exposure within the camera's range and step");
-  settings_.exposure_us = exposure;  // frames carry what the camera uses
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    settings_.exposure_us = exposure;  // frames carry what the camera uses
+  }
   if (arv_camera_get_pixel_format(camera_, nullptr) != ToArv(settings_.pixel_format))
     throw UserError(where, std::string("the camera did not take the pixel format ") +
                                PixelFormatName(settings_.pixel_format));
