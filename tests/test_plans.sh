@@ -11,6 +11,7 @@ tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 cp "$plans"/*.yaml "$tmp/"
 cp "$data/directions/seed_directions_20.tsv" "$tmp/directions.tsv"
+cp "$data/nbrdf/merl/white-paint.h5" "$data/nbrdf/merl/brass.h5" "$tmp/"
 : > "$tmp/basis.acqb"  # the loader checks that the basis exists; the capture reads it
 failures=0
 passed=0
@@ -55,6 +56,8 @@ expect "broken YAML" 1 broken_yaml.yaml --dry-run -- \
 # the first one missing (the gantry) is named with what to check.
 expect "backend not there" 1 absent_devices.yaml -- \
   "gantry USB 1209:acd0" "lsusb"
+expect "sim without materials" 1 no_sim_materials.yaml --dry-run -- \
+  "no_sim_materials.yaml:" "the sim backend needs sim.materials"
 expect "no plan" 1 no_such_plan.yaml --dry-run -- "no_such_plan.yaml" "cannot read the plan"
 
 echo "$passed passed, $failures failed"

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Set up, build and run the main job: the README's first command.
-# Until the capture pipeline (gantry, camera, calibration, acqd) exists, the main job is the
-# offline chain on simulated data:
+# Until acqd runs a whole session (its processing stages are to come), the main job is the
+# offline chain on simulated data, then acqd's simulated capture:
 #   1. the BRDF basis from 90 materials, the other 10 held out (every tenth by sorted name from
 #      the sixth), evaluated with the seed paper's 20 directions and 20 random ones;
 #   2. 20 directions optimised for this basis under the gantry's constraints, evaluated likewise
@@ -9,7 +9,8 @@
 #   3. a synthetic printed card of four held-out materials, observed per pixel at a 4 degree
 #      field of view through the optimised directions, reconstructed pixel by pixel into an
 #      SVBRDF map and scored against its ground truth;
-#   4. renders of the map: quick looks, a view under a new arm pose, spheres of chosen pixels.
+#   4. renders of the map: quick looks, a view under a new arm pose, spheres of chosen pixels;
+#   5. acqd on examples/plan-sim.yaml: the simulated instrument captures the card's frames.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 tools/setup.sh
@@ -50,6 +51,11 @@ $acq render spheres --map "$out/card_svbrdf.exr" --pixel 128,20 --pixel 60,60 --
   --pixel 40,160 -o "$out/card_spheres.png"
 $acq render export --map "$out/card_svbrdf.exr" --pixel 60,60 -o "$out/card_pixel_60_60.binary"
 echo
+echo "== 5. a simulated capture through acqd (gantry on emulated USB, camera on loopback GigE) =="
+rm -rf out/sessions/sim-card
+build/src/daemon/acqd --session examples/plan-sim.yaml --dry-run | tail -7
+build/src/daemon/acqd --session examples/plan-sim.yaml --socket "out/acqd.sock"
+echo
 echo "outputs in $out:"
 echo "  basis90.acqb               the basis (docs/basis-format.md)"
 echo "  eval_seed20.csv            per-material, per-channel errors, seed directions"
@@ -62,3 +68,7 @@ echo "  quicklook/*.png            BRDF at a diffuse and a specular configuratio
 echo "  card_view.png              the card re-rendered under a new light and camera pose"
 echo "  card_spheres.png           spheres with the BRDFs of four pixels"
 echo "  card_pixel_60_60.binary    one pixel's BRDF as a MERL .binary"
+echo "and in out/sessions/sim-card (the simulated capture; its processing inside acqd is to come):"
+echo "  frames/*.exr               the sample's frames, each pose's HDR bracket, with metadata"
+echo "  catalog.sqlite             the session catalog: frames with checksums, steps, events"
+echo "  ground_truth/              the simulated card's material labels, names, camera model"

@@ -152,7 +152,7 @@ Plan LoadPlan(const std::string& path) {
   plan.path = path;
   const Section top(root, path, "",
                     {"version", "backend", "output", "replay", "sample", "gantry", "camera",
-                     "directions", "calibration", "spectralon", "reconstruction"});
+                     "directions", "calibration", "spectralon", "reconstruction", "sim"});
   if (top.Integer("version", 1) != 1)
     throw UserError(top.Where("version"), "plan version " + top.Text("version") + " is not known",
                     "this acqd reads version 1");
@@ -262,6 +262,28 @@ Plan LoadPlan(const std::string& path) {
   if (!(plan.board_spacing_mm > 0))
     throw UserError(board.Where("spacing_mm"), "calibration.board.spacing_mm must be positive");
   plan.spectralon = top.Flag("spectralon", true);
+
+  const Section sim = top.Child("sim", {"materials", "seed", "light_intensity", "time_scale"});
+  if (plan.backend == Backend::kSim) {
+    const YAML::Node materials = root["sim"] ? root["sim"]["materials"] : YAML::Node();
+    if (!materials || !materials.IsSequence() || materials.size() == 0)
+      throw UserError(sim.Where("materials"), "the sim backend needs sim.materials",
+                      "list neural-BRDF fits (.h5) for the simulated card's inks, like "
+                      "[../data/nbrdf/merl/white-paint.h5]");
+    for (const YAML::Node& m : materials) {
+      const std::string file = Resolve(path, m.as<std::string>());
+      if (!fs::is_regular_file(file))
+        throw UserError(sim.Where(m), "sim.materials: no such file " + file,
+                        "data/nbrdf/merl has the fits of the 100 MERL materials");
+      plan.sim_materials.push_back(file);
+    }
+  }
+  plan.sim_seed = std::uint64_t(sim.Integer("seed", 1));
+  plan.sim_light_intensity = sim.Number("light_intensity", plan.sim_light_intensity);
+  plan.sim_time_scale = sim.Number("time_scale", plan.sim_time_scale);
+  if (!(plan.sim_time_scale > 0) || !(plan.sim_light_intensity > 0))
+    throw UserError(sim.Where("time_scale"),
+                    "sim.time_scale and sim.light_intensity must be positive");
 
   const Section recon = top.Child("reconstruction", {"basis", "k", "eta", "lookup", "row_tile"});
   plan.basis_file = Resolve(path, recon.Required("basis"));

@@ -4,6 +4,7 @@
 // file:line:column and says what to do.
 #pragma once
 
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -41,6 +42,14 @@ struct Plan {
   int board_width_n = 10, board_height_n = 10;
   double board_spacing_mm = 20;
   bool spectralon = true;
+
+  // backend sim: the simulated world. The sample is a printed card of these measured materials
+  // (neural-BRDF fits), the light's intensity in the renderer's units, simulated time per wall
+  // second.
+  std::vector<std::string> sim_materials;
+  std::uint64_t sim_seed = 1;
+  double sim_light_intensity = 2e5;
+  double sim_time_scale = 10;
 
   std::string basis_file;
   int components = 20;
