@@ -75,6 +75,8 @@ SimWorld::SimWorld(const Plan& plan) {
   const double intensity = plan.sim_light_intensity;
   sim::SimCameraOptions camera;
   camera.seed = plan.sim_seed;
+  sensor_ = camera.sensor;
+  light_intensity_ = intensity;
   camera_ = std::make_unique<sim::SimGigECamera>(
       scene_, model_,
       [this, camera_mm, light_mm, intensity] {
@@ -83,6 +85,10 @@ SimWorld::SimWorld(const Plan& plan) {
         return sim::ViewFromArms(arms, camera_mm, light_mm, intensity);
       },
       camera);
+}
+
+double SimWorld::LightIntensityInCounts(PixelFormat format) const {
+  return light_intensity_ * sensor_.quantum_scale * MaxValue(format) / sensor_.full_well_e;
 }
 
 void SimWorld::WriteGroundTruth(const std::string& dir) const {

@@ -31,6 +31,10 @@ class SimWorld {
   const std::string& camera_address() const { return camera_->address(); }
   const UsbDeviceId& usb_id() const { return usb_; }
   sim::EmulatedUsbGantry& gantry() { return *gantry_; }
+  const calib::CameraModel& camera_model() const { return model_; }
+  // The light's intensity in the HDR images' units (counts per us at 0 dB, x mm^2): what a
+  // Spectralon capture measures on the instrument; here the simulated sensor's own scale.
+  double LightIntensityInCounts(PixelFormat format) const;
   // Writes the card's ground truth (labels, material names, camera model) into `dir`.
   void WriteGroundTruth(const std::string& dir) const;
 
@@ -39,6 +43,8 @@ class SimWorld {
   std::vector<NeuralBrdf> networks_;
   sim::RenderScene scene_;
   calib::CameraModel model_;
+  sim::SensorModel sensor_;
+  double light_intensity_ = 0;
   std::unique_ptr<sim::EmulatedUsbGantry> gantry_;
   std::unique_ptr<sim::SimGigECamera> camera_;
 };
