@@ -10,7 +10,8 @@
 #      field of view through the optimised directions, reconstructed pixel by pixel into an
 #      SVBRDF map and scored against its ground truth;
 #   4. renders of the map: quick looks, a view under a new arm pose, spheres of chosen pixels;
-#   5. acqd on examples/plan-sim.yaml: the simulated instrument captures the card's frames.
+#   5. acqd on examples/plan-sim.yaml: the simulated instrument captures the card, and acqd
+#      processes the capture into an SVBRDF map.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 tools/setup.sh
@@ -68,7 +69,9 @@ echo "  quicklook/*.png            BRDF at a diffuse and a specular configuratio
 echo "  card_view.png              the card re-rendered under a new light and camera pose"
 echo "  card_spheres.png           spheres with the BRDFs of four pixels"
 echo "  card_pixel_60_60.binary    one pixel's BRDF as a MERL .binary"
-echo "and in out/sessions/sim-card (the simulated capture; its processing inside acqd is to come):"
+echo "and in out/sessions/sim-card (the simulated capture and its processing by acqd):"
 echo "  frames/*.exr               the sample's frames, each pose's HDR bracket, with metadata"
 echo "  catalog.sqlite             the session catalog: frames with checksums, steps, events"
+echo "  hdr/, correspondence/      merged radiance per pose; reference-to-view maps"
+echo "  svbrdf.exr                 the reconstructed SVBRDF map (docs/svbrdf-map.md)"
 echo "  ground_truth/              the simulated card's material labels, names, camera model"
