@@ -149,22 +149,29 @@ TEST_CASE("session: kill -9 mid-capture and resume: every frame once, as an unin
                             << "relative difference of a frame's mean " << worst);
   CHECK(worst < 0.01);
 
-  // Both sessions processed their frames into a map of the same pixels; the noise moves a few
-  // pixels across the validity limits (observations in the noise floor, condition number), so
-  // the valid counts agree to within 5%, not exactly.
+  // Both sessions processed their frames into a map of the same pixels. Which observations a
+  // pixel keeps depends on the noise only for values at the noise floor or saturation, so the
+  // mean number of observations per pixel agrees closely (3%); the count of valid pixels is
+  // printed but not compared: at this short bracket few pixels are valid, most of them near the
+  // condition limit, where noise decides (runs differed by 6%).
   const SvbrdfMap a = ReadSvbrdfMap(base + "/whole/session/svbrdf.exr");
   const SvbrdfMap b = ReadSvbrdfMap(base + "/resumed/session/svbrdf.exr");
   REQUIRE(a.info.width == b.info.width);
   REQUIRE(a.info.height == b.info.height);
   long valid_a = 0, valid_b = 0;
+  double observations_a = 0, observations_b = 0;
   for (int y = 0; y < a.info.height; ++y)
     for (int x = 0; x < a.info.width; ++x) {
       valid_a += a.Plane("valid", x, y) > 0.5f;
       valid_b += b.Plane("valid", x, y) > 0.5f;
+      observations_a += a.Plane("observations", x, y);
+      observations_b += b.Plane("observations", x, y);
     }
-  WARN("valid pixels: uninterrupted " << valid_a << ", resumed " << valid_b << " of "
-                                      << a.info.width * a.info.height);
-  CHECK(valid_a > 0);
-  CHECK(std::abs(valid_a - valid_b) < 0.05 * valid_a);
+  const double pixels = double(a.info.width) * a.info.height;
+  WARN("mean observations per pixel: uninterrupted "
+       << observations_a / pixels << ", resumed " << observations_b / pixels << "; valid pixels "
+       << valid_a << ", " << valid_b << " of " << pixels);
+  CHECK(observations_a / pixels > 5);
+  CHECK(observations_b == Approx(observations_a).epsilon(0.03));
   fs::remove_all(base);
 }
