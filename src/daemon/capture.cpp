@@ -25,37 +25,31 @@ std::string Degrees(const ArmAngles& a) {
   return s;
 }
 
+// Stops the gantry and ends the session here, resumable.
+[[noreturn]] void Abort(ControlServer& control, SessionStatus& status, Gantry& gantry) {
+  gantry.Stop();
+  const std::string where = status.state == "paused" ? "while paused at " : "at ";
+  status.state = "aborted";
+  control.Publish(status);
+  throw UserError("acqd", "aborted by the operator " + where + status.step,
+                  "the gantry is stopped; run acqd again with the same plan to resume");
+}
+
 // At a safe point: publish, then honour pause (wait for resume) and abort (stop, throw).
 void SafePoint(ControlServer& control, SessionStatus& status, Gantry& gantry) {
   control.Publish(status);
   for (std::string c = control.TakeCommand(); !c.empty(); c = control.TakeCommand()) {
-    if (c == "abort") {
-      gantry.Stop();
-      status.state = "aborted";
-      control.Publish(status);
-      throw UserError("acqd", "aborted by the operator at " + status.step,
-                      "the gantry is stopped; run acqd again with the same plan to resume");
+    if (c == "abort") Abort(control, status, gantry);
+    if (c != "pause") continue;
+    const std::string was = status.state;
+    status.state = "paused";
+    control.Publish(status);
+    for (std::string next = control.TakeCommand(); next != "resume"; next = control.TakeCommand()) {
+      if (next == "abort") Abort(control, status, gantry);
+      std::this_thread::sleep_for(std::chrono::milliseconds(50));
     }
-    if (c == "pause") {
-      const std::string was = status.state;
-      status.state = "paused";
-      control.Publish(status);
-      for (;;) {
-        const std::string next = control.TakeCommand();
-        if (next == "resume") break;
-        if (next == "abort") {
-          gantry.Stop();
-          status.state = "aborted";
-          control.Publish(status);
-          throw UserError("acqd", "aborted by the operator while paused at " + status.step,
-                          "the gantry is stopped; run acqd again with the same plan to resume");
-        }
-        gantry.RenewLease(2000);  // holding still, not moving: the lease only guards motion
-        std::this_thread::sleep_for(std::chrono::milliseconds(50));
-      }
-      status.state = was;
-      control.Publish(status);
-    }
+    status.state = was;
+    control.Publish(status);
   }
 }
 
