@@ -21,6 +21,7 @@
 #include "io/float_planes_exr.h"
 #include "sim/sim_gige_camera.h"
 #include "sim_gantry_link.h"
+#include "test_helpers.h"
 
 using namespace acq;
 
@@ -293,8 +294,8 @@ TEST_CASE("hdr: a bracket recovers a 1e5:1 radiance range", "[hdr]") {
 
 TEST_CASE("replay: a recorded bracket is served again in order; other settings are refused",
           "[camera][replay]") {
-  const std::string dir = "replay_session_test";
-  std::filesystem::remove_all(dir);
+  const test::TempDir tmp;
+  const std::string dir = tmp / "session";
   std::filesystem::create_directories(dir + "/frames");
   std::vector<Frame> recorded;
   {
@@ -321,7 +322,6 @@ TEST_CASE("replay: a recorded bracket is served again in order; other settings a
                     Catch::Contains("100_sample.exr") && Catch::Contains("was recorded at 500") &&
                         Catch::Contains("asks for 1000"));
   CHECK_THROWS_WITH(ReplayCamera("no_such_session"), Catch::Contains("no_such_session"));
-  std::filesystem::remove_all(dir);
 }
 
 TEST_CASE("sim camera: renders from where the simulated gantry holds the arms; automatic bracket",
@@ -367,11 +367,11 @@ TEST_CASE("sim camera: renders from where the simulated gantry holds the arms; a
   sim::RenderScene card;
   card.card = sim::MakeCardLayout(16, 8, 100, 2, 1);
   card.material_names = {"white-paint", "brass"};
-  sim::WriteGroundTruth("ground_truth_test", card, SmallCamera());
-  const FloatPlanes labels = ReadFloatPlanesExr("ground_truth_test/ground_truth_labels.exr");
+  const test::TempDir tmp;
+  sim::WriteGroundTruth(tmp / "ground_truth", card, SmallCamera());
+  const FloatPlanes labels = ReadFloatPlanesExr(tmp / "ground_truth/ground_truth_labels.exr");
   CHECK(labels.width == 16);
   CHECK(labels.Plane("material", "labels") ==
         std::vector<float>(card.card.label.begin(), card.card.label.end()));
-  CHECK(calib::CameraModel::Read("ground_truth_test/camera.cameramodel").width() == 320);
-  std::filesystem::remove_all("ground_truth_test");
+  CHECK(calib::CameraModel::Read(tmp / "ground_truth/camera.cameramodel").width() == 320);
 }

@@ -359,16 +359,16 @@ TEST_CASE(
   const double f_view = distance * 160 / 32.0;
   const calib::CameraModel view_camera("LENSMODEL_PINHOLE", {f_view, f_view, 79.5, 79.5}, 160, 160);
   std::vector<SessionView> views;
+  const test::TempDir tmp;
   for (std::size_t v = 0; v < d.views.size(); ++v) {
     const sim::SimView pose = sim::ViewFromArms(d.views[v], distance, distance, 1e6);
     calib::CalibratedView calibrated{view_camera, pose.cam_from_sample, pose.light.position_mm};
     SessionView sv;
     sv.name = "view " + std::to_string(v);
     // Through the session's file, as the reconstructor reads it (correspondence/NNN.exr).
-    const std::string map_path = "session_path_test_" + std::to_string(v) + ".exr";
+    const std::string map_path = tmp / (std::to_string(v) + ".exr");
     WriteFloatPlanesExr(map_path, calib::ComputeCorrespondence(reference, calibrated));
     sv.correspondence = ReadFloatPlanesExr(map_path);
-    std::remove(map_path.c_str());
     const sim::RadianceImage L =
         sim::RenderRadiance(card, view_camera, pose.cam_from_sample, pose.light, 1);
     const sim::RadianceImage Ls =

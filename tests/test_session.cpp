@@ -20,6 +20,7 @@
 #include "hw/frame_file.h"
 #include "io/session_catalog.h"
 #include "io/svbrdf_map.h"
+#include "test_helpers.h"
 
 using namespace acq;
 namespace fs = std::filesystem;
@@ -94,7 +95,8 @@ std::map<std::pair<int, double>, double> FrameMeans(const std::string& session) 
 
 TEST_CASE("session: kill -9 mid-capture and resume: every frame once, as an uninterrupted run",
           "[integration]") {
-  const std::string base = "session_test_" + std::to_string(getpid());
+  const test::TempDir tmp;
+  const std::string base = tmp / "sessions";
   const std::string socket = "/tmp/acqd-test-" + std::to_string(getpid()) + ".sock";
 
   fs::create_directories(base);
@@ -173,5 +175,4 @@ TEST_CASE("session: kill -9 mid-capture and resume: every frame once, as an unin
        << valid_a << ", " << valid_b << " of " << pixels);
   CHECK(observations_a / pixels > 5);
   CHECK(observations_b == Approx(observations_a).epsilon(0.03));
-  fs::remove_all(base);
 }

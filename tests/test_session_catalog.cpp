@@ -12,6 +12,7 @@
 #include "core/error.h"
 #include "core/sha256.h"
 #include "io/session_catalog.h"
+#include "test_helpers.h"
 
 using namespace acq;
 namespace fs = std::filesystem;
@@ -58,8 +59,8 @@ TEST_CASE("sha256: the standard's test vectors", "[catalog]") {
 
 TEST_CASE("catalog: frames recorded once, steps, damaged and unrecorded files repaired",
           "[catalog]") {
-  const std::string dir = "catalog_test_session";
-  fs::remove_all(dir);
+  const test::TempDir tmp;
+  const std::string dir = tmp / "session";
   {
     SessionCatalog catalog(dir);
     const std::string bytes = FrameBytes(0);
@@ -94,7 +95,6 @@ TEST_CASE("catalog: frames recorded once, steps, damaged and unrecorded files re
   CHECK(r.orphans[0] == fs::path(FramePath(2)).filename().string());
   CHECK(reopened.Frames().size() == 1);
   CHECK(reopened.StepDone("sample"));
-  fs::remove_all(dir);
 }
 
 TEST_CASE("catalog: kill -9 at any instant, then resume: every frame once, none lost",
@@ -105,9 +105,9 @@ TEST_CASE("catalog: kill -9 at any instant, then resume: every frame once, none 
   // write, the rename and the commit of some frame; whatever the instant, the resumed session
   // must hold exactly frames 0..59, each once, each with its bytes.
   const int frames = 60;
+  const test::TempDir tmp;
   for (int round = 0; round < 6; ++round) {
-    const std::string dir = "crash_test_session_" + std::to_string(round);
-    fs::remove_all(dir);
+    const std::string dir = tmp / ("session_" + std::to_string(round));
     const pid_t child = fork();
     REQUIRE(child >= 0);
     if (child == 0) {
@@ -142,6 +142,5 @@ TEST_CASE("catalog: kill -9 at any instant, then resume: every frame once, none 
     for (const auto& e : fs::directory_iterator(dir + "/frames")) files += e.is_regular_file();
     CHECK(files == std::size_t(frames));  // no stray partial or duplicate file
     CHECK(catalog.StepDone("sample"));
-    fs::remove_all(dir);
   }
 }
