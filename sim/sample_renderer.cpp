@@ -109,10 +109,14 @@ RadianceImage RenderRadiance(const RenderScene& scene, const calib::CameraModel&
   return out;
 }
 
+double SensorModel::CountsPerElectron(int max_dn, double gain_db) const {
+  return max_dn / full_well_e * std::pow(10.0, gain_db / 20);
+}
+
 std::vector<std::uint16_t> Expose(const std::vector<float>& radiance, double exposure_us,
                                   double gain_db, int max_dn, const SensorModel& sensor,
                                   std::uint64_t seed) {
-  const double dn_per_e = max_dn / sensor.full_well_e * std::pow(10.0, gain_db / 20);
+  const double dn_per_e = sensor.CountsPerElectron(max_dn, gain_db);
   std::vector<std::uint16_t> out(radiance.size());
   const int blocks = 64;  // independent seeded streams, so threads give the same frame
 #pragma omp parallel for

@@ -64,6 +64,13 @@ struct SensorModel {
   double read_noise_e = 4;
   double black_level_dn = 0;  // added before quantisation (in counts at the format's depth)
   bool noise = true;
+  // Counts per electron at `max_dn` full scale and gain_db.
+  double CountsPerElectron(int max_dn, double gain_db) const;
+  // Mean counts per microsecond per radiance unit: what an HDR merge (counts/us at 0 dB) gives
+  // for radiance 1, i.e. what a Spectralon capture calibrates on the instrument.
+  double CountsPerRadianceUs(int max_dn) const {
+    return quantum_scale * CountsPerElectron(max_dn, 0);
+  }
 };
 
 // Counts at `max_dn` (255, 4095, 65535) full scale for one exposure; deterministic for a seed.

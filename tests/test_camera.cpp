@@ -267,12 +267,11 @@ TEST_CASE("hdr: a bracket recovers a 1e5:1 radiance range", "[hdr]") {
   options.noise_floor_dn = 16;  // 4.9 e- at 3.28 DN/e-: just above the 4 e- read noise
   const HdrImage hdr = MergeBracket(frames, options);
   // Merged values are counts per us; the truth is radiance x quantum_scale x DN per electron.
-  const double dn_per_e = 65535 / sensor.full_well_e;
   std::vector<double> errors;
   double worst = 0;
   for (int i = 0; i < n; ++i) {
     REQUIRE(hdr.flag[i] == kHdrOk);
-    const double truth = radiance[i] * sensor.quantum_scale * dn_per_e;
+    const double truth = radiance[i] * sensor.CountsPerRadianceUs(65535);
     const double e = std::abs(hdr.radiance[i] - truth) / truth;
     errors.push_back(e);
     worst = std::max(worst, e);

@@ -205,11 +205,12 @@ Plan LoadPlan(const std::string& path) {
   GantryMotion& m = plan.motion;
   m.ReadAxes([&](const std::string& key, double fallback) { return axes.Number(key, fallback); });
   gantry.At("axes", [&] { m.Check(); });
-  plan.camera_distance_mm = gantry.Number("camera_distance_mm", plan.camera_distance_mm);
-  plan.light_distance_mm = gantry.Number("light_distance_mm", plan.light_distance_mm);
-  for (const char* key : {"camera_distance_mm", "light_distance_mm"})
-    if (!(gantry.Number(key, 1) > 0))
+  for (auto [key, value] : {std::pair{"camera_distance_mm", &plan.camera_distance_mm},
+                            std::pair{"light_distance_mm", &plan.light_distance_mm}}) {
+    *value = gantry.Number(key, *value);
+    if (!(*value > 0))
       throw UserError(gantry.Where(key), gantry.Qualified(key) + " must be positive");
+  }
 
   const Section camera = top.Child("camera", {"id", "pixel_format", "gain_db", "hdr"});
   plan.camera_id = camera.Text("id");

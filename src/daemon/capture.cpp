@@ -80,11 +80,9 @@ CaptureReport CaptureSample(const Plan& plan, const VisitPlan& visit, Gantry& ga
     MoveAndWait(gantry, pose.arms, slowest, plan.motion.settle_s);
     report.motion_s += Since(move_start);
     const GantryStatus arrived = gantry.Status();
-    for (int a = 0; a < 4; ++a)
-      status.arms_deg[a] = RadToDeg(a == 0   ? arrived.measured.light_theta
-                                    : a == 1 ? arrived.measured.light_phi
-                                    : a == 2 ? arrived.measured.camera_theta
-                                             : arrived.measured.camera_phi);
+    const ArmAngles& m = arrived.measured;
+    const double arms[4] = {m.light_theta, m.light_phi, m.camera_theta, m.camera_phi};
+    for (int a = 0; a < 4; ++a) status.arms_deg[a] = RadToDeg(arms[a]);
     for (std::size_t e = 0; e < per_pose; ++e) {
       const double t = plan.bracket_us[e];
       if (catalog.HasFrame("sample", int(i), t)) {

@@ -88,7 +88,7 @@ SimWorld::SimWorld(const Plan& plan) {
 }
 
 double SimWorld::LightIntensityInCounts(PixelFormat format) const {
-  return light_intensity_ * sensor_.quantum_scale * MaxValue(format) / sensor_.full_well_e;
+  return light_intensity_ * sensor_.CountsPerRadianceUs(MaxValue(format));
 }
 
 void SimWorld::WriteGroundTruth(const std::string& dir) const {

@@ -132,12 +132,10 @@ void AravisCamera::StopStream() {
   }
   if (!stream_) return;
   if (camera_) arv_camera_stop_acquisition(camera_, nullptr);  // fails harmlessly when gone
-  if (ARV_IS_GV_STREAM(stream_)) {
-    guint64 resent = 0, missing = 0;
-    arv_gv_stream_get_statistics(ARV_GV_STREAM(stream_), &resent, &missing);
+  {
+    // The stream's packet counts die with it: keep them.
     std::lock_guard<std::mutex> lock(mutex_);
-    stats_.resent_packets += resent;
-    stats_.missing_packets += missing;
+    AddPacketCounts(&stats_);
   }
   g_clear_object(&stream_);
   std::lock_guard<std::mutex> lock(mutex_);
@@ -344,13 +342,16 @@ Frame AravisCamera::Grab() {
 StreamStatistics AravisCamera::Statistics() const {
   std::lock_guard<std::mutex> lock(mutex_);
   StreamStatistics s = stats_;
-  if (stream_ && ARV_IS_GV_STREAM(stream_)) {
-    guint64 resent = 0, missing = 0;
-    arv_gv_stream_get_statistics(ARV_GV_STREAM(stream_), &resent, &missing);
-    s.resent_packets += resent;
-    s.missing_packets += missing;
-  }
+  AddPacketCounts(&s);
   return s;
+}
+
+void AravisCamera::AddPacketCounts(StreamStatistics* s) const {
+  if (!stream_ || !ARV_IS_GV_STREAM(stream_)) return;  // only GigE Vision counts packets
+  guint64 resent = 0, missing = 0;
+  arv_gv_stream_get_statistics(ARV_GV_STREAM(stream_), &resent, &missing);
+  s->resent_packets += resent;
+  s->missing_packets += missing;
 }
 
 }  // namespace acq

@@ -61,6 +61,7 @@ class AravisCamera : public Camera {
   void ApplyToDevice();  // throws UserError
   bool Reopen();
   bool StillInControl();
+  void AddPacketCounts(StreamStatistics* s) const;  // the live stream's, if GigE Vision
   void Work();
 
   AravisCameraOptions options_;
