@@ -168,6 +168,12 @@ void SimGigECamera::Reappear() {
   if (!gv_camera_) Start();
 }
 
+void SimGigECamera::SetScene(RenderScene scene) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  scene_ = std::move(scene);
+  have_render_ = false;
+}
+
 void SimGigECamera::SetLostPacketRatio(double ratio) {
   lost_ratio_ = ratio;
   if (gv_camera_)

@@ -70,6 +70,8 @@ class SimGigECamera {
   void Disappear();
   // Back with its power-on settings (the driver must apply its own again).
   void Reappear();
+  // What lies under the gantry from the next frame on (the card, the board, the Spectralon).
+  void SetScene(RenderScene scene);
   // Fraction of stream packets the camera drops (Aravis's gvsp-lost-ratio).
   void SetLostPacketRatio(double ratio);
 

@@ -10,16 +10,6 @@
 namespace acq {
 namespace {
 
-// The map's coefficients of a pixel, R then G then B.
-std::vector<float> PixelCoefficients(const SvbrdfMap& map, int x, int y) {
-  std::vector<float> all;
-  for (int c = 0; c < 3; ++c) {
-    const std::vector<float> v = map.Coefficients(x, y, c);
-    all.insert(all.end(), v.begin(), v.end());
-  }
-  return all;
-}
-
 // Sample point of a reference pixel: the reference view looks straight down at the centre.
 Eigen::Vector2d PointOf(const SvbrdfMap& map, int x, int y) {
   return {(x + 0.5 - map.info.width / 2.0) * map.info.pixel_size_mm,
@@ -35,6 +25,15 @@ void CheckBasis(const SvbrdfMap& map, const BasisView& basis) {
 }
 
 }  // namespace
+
+std::vector<float> PixelCoefficients(const SvbrdfMap& map, int x, int y) {
+  std::vector<float> all;
+  for (int c = 0; c < 3; ++c) {
+    const std::vector<float> v = map.Coefficients(x, y, c);
+    all.insert(all.end(), v.begin(), v.end());
+  }
+  return all;
+}
 
 RgbImage RenderView(const SvbrdfMap& map, const BasisView& basis, const ArmAngles& arms,
                     const NearFieldGeometry& geometry, RowLookup lookup) {

@@ -18,6 +18,9 @@ struct RgbImage {
   std::vector<float> rgb;  // row-major, 3 floats a pixel, linear
 };
 
+// The map's coefficients of a pixel, R then G then B (3 x k), as BrdfFromCoefficients takes them.
+std::vector<float> PixelCoefficients(const SvbrdfMap& map, int x, int y);
+
 // Relative radiance of every reference pixel for a light of unit intensity at the arms' light
 // pose and the camera at theirs, each pixel with its own near-field directions:
 // L = rho(w_i, w_o) cos(theta_i) / r_light^2 (scaled so a light at 1 m gives rho cos).

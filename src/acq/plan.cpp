@@ -236,7 +236,7 @@ Plan LoadPlan(const std::string& path) {
   plan.camera.exposure_us = plan.bracket_us.empty() ? 10000 : plan.bracket_us.front();
   camera.At("gain_db", [&] { plan.camera.Check(""); });
 
-  const Section directions = top.Child("directions", {"file"});
+  const Section directions = top.Child("directions", {"file", "validation"});
   plan.directions_file = Resolve(path, directions.Required("file"));
   RequireFile(directions, "file", plan.directions_file,
               "give a directions TSV (acq directions optimize writes one)");
@@ -244,6 +244,14 @@ Plan LoadPlan(const std::string& path) {
   if (plan.directions.empty())
     throw UserError(directions.Where("file"), "no directions in " + plan.directions_file);
   CheckReachable(plan.directions, plan.motion);  // names the direction's file:line and the rule
+  if (!directions.Text("validation").empty()) {
+    plan.validation_file = Resolve(path, directions.Text("validation"));
+    RequireFile(directions, "validation", plan.validation_file,
+                "give a directions TSV of light/view pairs to check the result against, or "
+                "leave directions.validation out");
+    plan.validation = ReadDirectionsTsv(plan.validation_file);
+    CheckReachable(plan.validation, plan.motion);
+  }
 
   const Section calibration = top.Child("calibration", {"intrinsics_captures", "board"});
   plan.intrinsics_captures = calibration.Integer("intrinsics_captures", plan.intrinsics_captures);

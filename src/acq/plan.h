@@ -37,6 +37,10 @@ struct Plan {
 
   std::string directions_file;
   std::vector<Direction> directions;
+  // Validation views: captured like the sample's, never used to reconstruct; the map's
+  // renders are compared with them (optional).
+  std::string validation_file;
+  std::vector<Direction> validation;
 
   int intrinsics_captures = 30;
   int board_width_n = 10, board_height_n = 10;

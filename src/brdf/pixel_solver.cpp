@@ -102,20 +102,28 @@ namespace {
 struct Factor {
   std::vector<std::uint8_t> views;  // which views the rows came from
   Eigen::LLT<Eigen::MatrixXd> llt, plain;
-  Eigen::MatrixXd normal;
+  Eigen::MatrixXd normal, gram;
   Eigen::VectorXd v, w;
   double condition = 0;
   void Compute(const Eigen::Ref<const RowMatrix>& q, int k, double eta) {
     const int n = int(q.rows());
     normal.setZero(k, k);
     normal.selfadjointView<Eigen::Lower>().rankUpdate(q.transpose());
-    // The condition number of the rows from the normal matrix's extreme eigenvalues (fewer rows
-    // than unknowns, or a matrix that is not positive definite: infinite); the solve is a
-    // Cholesky factorisation of the ridge-regularised normal matrix.
-    plain.compute(normal);
-    condition = n < k || plain.info() != Eigen::Success
-                    ? std::numeric_limits<double>::infinity()
-                    : std::sqrt(ConditionSquared(normal, plain, v, w));
+    // The condition number of the rows, sigma_max / sigma_min of the n x k matrix Q: from the
+    // extreme eigenvalues of Q^T Q (k x k) or, with fewer rows than unknowns, of Q Q^T (n x n),
+    // which has the same non-zero eigenvalues. With n < k the ridge settles the directions no
+    // observation constrains (towards the mean BRDF) and this number says how much the fit to
+    // the observations there are amplifies their noise. Infinite when the rows are dependent.
+    // The solve is a Cholesky factorisation of the ridge-regularised normal matrix.
+    const Eigen::MatrixXd* square = &normal;
+    if (n < k) {
+      gram.setZero(n, n);
+      gram.selfadjointView<Eigen::Lower>().rankUpdate(q);
+      square = &gram;
+    }
+    plain.compute(*square);
+    condition = plain.info() != Eigen::Success ? std::numeric_limits<double>::infinity()
+                                               : std::sqrt(ConditionSquared(*square, plain, v, w));
     if (!std::isfinite(condition) || condition <= 0)
       condition = std::numeric_limits<double>::infinity();
     normal.diagonal().array() += eta;

@@ -73,8 +73,8 @@ struct PixelSolution {
   std::vector<float> coefficients;          // pixels * 3 * k
   std::vector<std::uint8_t> valid;          // 1 when trustworthy
   std::vector<std::uint16_t> observations;  // views used
-  std::vector<float> condition;             // of the pixel's sampled rows (inf when n < k)
-  std::vector<float> residual;              // RMS log-space misfit at the observations
+  std::vector<float> condition;  // of the pixel's sampled rows, n x k (inf when dependent)
+  std::vector<float> residual;   // RMS log-space misfit at the observations
 
   void Resize(int pixels, int k);
 };

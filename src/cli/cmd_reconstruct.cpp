@@ -1,6 +1,7 @@
 #include <cstdio>
 #include <filesystem>
 
+#include "acq/map_score.h"
 #include "acq/reconstruction_job.h"
 #include "brdf/basis_file.h"
 #include "brdf/directions.h"
@@ -133,21 +134,16 @@ int ReconstructSynthetic(const Argv& argv) {
   if (args.Has("score")) {
     // Against the ground truth: each pixel's grid log-space RMSE against its material's table.
     const SvbrdfMap map = ReadSvbrdfMap(out);
-    const HeldOutSet held(basis, tables);
-    std::vector<double> errors;
-    const int k = map.info.components;
-    for (int y = 0; y < h; ++y)
-      for (int x = 0; x < w; ++x)
-        for (int c = 0; c < 3; ++c) {
-          const std::vector<float> cf = map.Coefficients(x, y, c);
-          const Eigen::Map<const Eigen::VectorXf> coeff(cf.data(), k);
-          errors.push_back(held.LogRmse(source.scene().label[std::size_t(y) * w + x] * 3 + c,
-                                        coeff.cast<double>()));
-        }
+    const std::vector<std::uint8_t>& labels = source.scene().label;
+    const MapScore score =
+        ScoreMap(map, basis, std::vector<int>(labels.begin(), labels.end()), tables);
     std::printf(
-        "score: median per-pixel log-space RMSE against the ground truth: %.4f (%zu pixel "
-        "channels)\n",
-        Median(errors), errors.size());
+        "score: median per-pixel log-space RMSE against the ground truth: %.4f (%ld pixels x 3 "
+        "channels; %.4f over the %ld valid)\n",
+        score.median_log_rmse, score.pixels, score.median_log_rmse_valid, score.valid);
+    for (std::size_t m = 0; m < names.size(); ++m)
+      std::printf("score: material %s median per-pixel log-space RMSE %.4f\n", names[m].c_str(),
+                  score.material_median_log_rmse[m]);
   }
   return 0;
 }

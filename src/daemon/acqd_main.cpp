@@ -10,21 +10,28 @@
 #include <chrono>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <memory>
 #include <string>
 #include <thread>
 
+#include "acq/map_score.h"
 #include "acq/move_planner.h"
 #include "acq/plan.h"
+#include "brdf/basis_file.h"
+#include "brdf/directions.h"
+#include "brdf/evaluation.h"
 #include "core/angles.h"
 #include "core/error.h"
 #include "daemon/capture.h"
 #include "daemon/control.h"
 #include "daemon/process.h"
+#include "daemon/report.h"
 #include "daemon/sim_world.h"
 #include "hw/aravis_camera.h"
 #include "hw/protocol_gantry.h"
 #include "hw/usb_transport.h"
+#include "io/float_planes_exr.h"
 #include "io/session_catalog.h"
 
 namespace acq {
@@ -40,6 +47,42 @@ constexpr const char* kUsage =
 // (measured: 0.06 s for 2048 x 2048 Mono16 on loopback; a real link is slower) plus the
 // exposure change. An estimate for planning, not a promise.
 constexpr double kFrameOverheadS = 0.15;
+
+using Clock = std::chrono::steady_clock;
+
+double Since(Clock::time_point t) {
+  return std::chrono::duration<double>(Clock::now() - t).count();
+}
+
+// The simulated session's map against the card's true materials (as the mono camera records
+// them), and the homogeneous result for the same materials at the same directions.
+void ScoreAgainstTruth(const Plan& plan, const SimWorld& world, SessionReport* report) {
+  const MappedBasis mapped = MappedBasis::Open(plan.basis_file);
+  const std::vector<MerlBrdf> truth = world.TruthTables();
+  report->score = ScoreMap(ReadSvbrdfMap(plan.output + "/svbrdf.exr"), mapped.View(),
+                           world.LabelsAt(report->process.sample_points), truth);
+  FloatPlanes error;  // per pixel, for a look at where the map is wrong
+  error.width = report->process.reference_width;
+  error.height = report->process.reference_height;
+  error.planes["log_rmse"] = report->score.log_rmse;
+  error.attributes["meaning"] = "log-space RMSE against the true material; -1 off the card";
+  WriteFloatPlanesExr(plan.output + "/ground_truth/error.exr", error);
+  std::vector<double> homogeneous;
+  const std::vector<std::size_t> bins = BinsOf(plan.directions);
+  for (const MerlBrdf& m : truth) {
+    double sum = 0;
+    for (const ChannelError& e :
+         EvaluateHomogeneous(mapped.View(), m, bins, RidgeOptions{plan.components, plan.eta})) {
+      homogeneous.push_back(e.log_rmse);
+      sum += e.log_rmse / 3;
+    }
+    report->homogeneous_log_rmse.push_back(sum);
+  }
+  for (const std::string& path : plan.sim_materials)
+    report->materials.push_back(std::filesystem::path(path).stem().string());
+  report->homogeneous_median_log_rmse = Median(homogeneous);
+  report->scored = true;
+}
 
 void PrintDryRun(const Plan& plan) {
   std::printf("plan %s: backend %s, session directory %s\n", plan.path.c_str(),
@@ -117,9 +160,6 @@ int Run(int argc, char** argv) {
     PrintDryRun(plan);
     return 0;
   }
-  if (plan.auto_bracket)
-    throw UserError(plan.path, "the sequencer takes fixed brackets only so far",
-                    "give camera.hdr.bracket_us");
   if (plan.backend == Backend::kReplay)
     throw UserError("acqd", "the replay backend's sequencer is not built yet (issue 8)",
                     "replay frames offline through ReplayCamera");
@@ -128,6 +168,11 @@ int Run(int argc, char** argv) {
   if (plan.backend == Backend::kSim && !SimEnvironmentReady())
     throw UserError("acqd", ReexecForSim(argc, argv),
                     "the sim backend needs unshare (util-linux), ip (iproute2) and umockdev");
+  const auto session_start = Clock::now();
+  SessionReport report;
+  report.plan = plan.path;
+  report.backend = BackendName(plan.backend);
+  report.session = plan.output;
   // The control socket first, so that `acqctl status` shows every phase of the start.
   ControlServer control(socket);
   SessionStatus status;
@@ -165,33 +210,43 @@ int Run(int argc, char** argv) {
   gantry.Home();
   while (gantry.Status().Moving()) std::this_thread::sleep_for(std::chrono::milliseconds(20));
   phase("planning the visiting order");
+  auto planning_start = Clock::now();
   const VisitPlan visit = PlanShortest(plan.directions, plan.motion);
-  const CaptureReport r = CaptureSample(plan, visit, gantry, camera, catalog, control);
+  const VisitPlan validation_visit =
+      plan.validation.empty() ? VisitPlan() : PlanShortest(plan.validation, plan.motion);
+  report.planning_s = Since(planning_start);
+  const std::vector<CaptureStep> steps = CaptureSteps(plan, visit, validation_visit);
+  CaptureContext context{gantry, camera, catalog, control, status};
+  if (world) context.place = [&](const std::string& item) { world->Place(item); };
+  for (const CaptureStep& step : steps) context.poses_total += int(step.visit->poses.size());
+  for (const CaptureStep& step : steps) report.capture += Capture(plan, step, context);
   gantry.SetLight(false, 0);
-  catalog.Event("info", "sample captured: " + std::to_string(r.frames_taken) + " frames taken, " +
+  const CaptureReport& r = report.capture;
+  catalog.Event("info", "captured: " + std::to_string(r.frames_taken) + " frames taken, " +
                             std::to_string(r.frames_skipped) + " already there");
   std::printf(
-      "sample captured into %s: %d frames taken, %d already there (motion %.1f s, "
-      "exposure %.1f s, transfer %.1f s)\n",
+      "captured into %s: %d frames taken, %d already there (motion %.1f s, exposure %.1f s, "
+      "transfer %.1f s)\n",
       plan.output.c_str(), r.frames_taken, r.frames_skipped, r.motion_s, r.exposure_s,
       r.transfer_s);
   if (!world) {
     std::printf(
-        "not built yet: the calibration, Spectralon and board captures and the processing "
-        "inside acqd for a real instrument\n");
+        "not built yet: the calibration stages and the processing inside acqd for a real "
+        "instrument\n");
     return 0;
   }
   // The simulated instrument's geometry is exact: process with it (process.h explains the
-  // departure until the calibration stage runs inside acqd).
-  phase("processing: HDR merge, correspondence, reconstruction");
-  const ProcessReport p = ProcessSample(
+  // departure until the board stage runs inside acqd).
+  phase("processing: HDR merge, correspondence, reconstruction, validation");
+  report.process = ProcessSession(
       plan, catalog,
       {world->camera_model(), world->LightIntensityInCounts(plan.camera.pixel_format)});
-  std::printf(
-      "reconstructed %s/svbrdf.exr: %d x %d reference pixels of %.3f mm, %ld valid "
-      "(HDR %.1f s, correspondence %.1f s, reconstruction %.1f s)\n",
-      plan.output.c_str(), p.reference_width, p.reference_height, p.pixel_size_mm,
-      p.reconstruction.valid, p.hdr_s, p.correspondence_s, p.reconstruction_s);
+  phase("scoring against the simulated card's ground truth");
+  ScoreAgainstTruth(plan, *world, &report);
+  report.wall_s = Since(session_start);
+  WriteReport(report, plan.output);
+  std::printf("\n%s\nreport: %s/report.txt and report.json\n", report.Text().c_str(),
+              plan.output.c_str());
   status.state = "done";
   status.progress = 1;
   phase("done");

@@ -3,8 +3,10 @@
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
+#include <sstream>
 #include <thread>
 
+#include "acq/hdr.h"
 #include "core/angles.h"
 #include "core/error.h"
 #include "hw/frame_file.h"
@@ -26,103 +28,203 @@ std::string Degrees(const ArmAngles& a) {
 }
 
 // Stops the gantry and ends the session here, resumable.
-[[noreturn]] void Abort(ControlServer& control, SessionStatus& status, Gantry& gantry) {
-  gantry.Stop();
-  const std::string where = status.state == "paused" ? "while paused at " : "at ";
-  status.state = "aborted";
-  control.Publish(status);
-  throw UserError("acqd", "aborted by the operator " + where + status.step,
+[[noreturn]] void Abort(CaptureContext& c) {
+  c.gantry.Stop();
+  const std::string where = c.status.state == "paused" ? "while paused at " : "at ";
+  c.status.state = "aborted";
+  c.control.Publish(c.status);
+  throw UserError("acqd", "aborted by the operator " + where + c.status.step,
                   "the gantry is stopped; run acqd again with the same plan to resume");
 }
 
-// At a safe point: publish, then honour pause (wait for resume) and abort (stop, throw).
-void SafePoint(ControlServer& control, SessionStatus& status, Gantry& gantry) {
-  control.Publish(status);
-  for (std::string c = control.TakeCommand(); !c.empty(); c = control.TakeCommand()) {
-    if (c == "abort") Abort(control, status, gantry);
-    if (c != "pause") continue;
-    const std::string was = status.state;
-    status.state = "paused";
-    control.Publish(status);
-    for (std::string next = control.TakeCommand(); next != "resume"; next = control.TakeCommand()) {
-      if (next == "abort") Abort(control, status, gantry);
-      std::this_thread::sleep_for(std::chrono::milliseconds(50));
-    }
-    status.state = was;
-    control.Publish(status);
+// Waits for `wanted` (resume, confirm), honouring abort meanwhile.
+void WaitFor(CaptureContext& c, const std::string& wanted) {
+  for (std::string next = c.control.TakeCommand(); next != wanted; next = c.control.TakeCommand()) {
+    if (next == "abort") Abort(c);
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
   }
+}
+
+// At a safe point: publish, then honour pause (wait for resume) and abort (stop, throw).
+void SafePoint(CaptureContext& c) {
+  c.control.Publish(c.status);
+  for (std::string command = c.control.TakeCommand(); !command.empty();
+       command = c.control.TakeCommand()) {
+    if (command == "abort") Abort(c);
+    if (command != "pause") continue;
+    const std::string was = c.status.state;
+    c.status.state = "paused";
+    c.control.Publish(c.status);
+    WaitFor(c, "resume");
+    c.status.state = was;
+    c.control.Publish(c.status);
+  }
+}
+
+const char* Instructions(const std::string& item) {
+  if (item == "spectralon")
+    return "place the Spectralon board flat on the sample plane, centred where the sample was";
+  return "place the sample flat on the sample plane, centred under the reference view";
+}
+
+// Makes sure `item` lies under the gantry: the simulated world places it; an operator is asked
+// and confirms with `acqctl confirm` (the gantry holds still meanwhile: at the end of a step the
+// arms are over the sample, out of the operator's way at their last pose).
+double Place(CaptureContext& c, const std::string& item) {
+  if (c.placed == item) return 0;
+  const auto start = Clock::now();
+  if (c.place) {
+    c.place(item);
+  } else {
+    const std::string was = c.status.state;
+    c.status.state = "waiting";
+    c.status.prompt = std::string(Instructions(item)) + ", then run `acqctl confirm`";
+    c.control.Publish(c.status);
+    std::printf("operator: %s\n", c.status.prompt.c_str());
+    std::fflush(stdout);
+    WaitFor(c, "confirm");
+    c.status.prompt.clear();
+    c.status.state = was;
+  }
+  c.placed = item;
+  c.catalog.Event("info", item + " placed");
+  return Since(start);
+}
+
+std::string BracketKey(const std::string& step, int pose) {
+  return "bracket/" + step + "/" + std::to_string(pose);
+}
+
+std::vector<double> RecordedBracket(const Plan& plan, const std::string& step, int pose,
+                                    const SessionCatalog& catalog) {
+  if (!plan.auto_bracket) return plan.bracket_us;
+  std::istringstream in(catalog.Decision(BracketKey(step, pose)));
+  std::vector<double> exposures;
+  for (double t; in >> t;) exposures.push_back(t);
+  return exposures;
 }
 
 }  // namespace
 
-CaptureReport CaptureSample(const Plan& plan, const VisitPlan& visit, Gantry& gantry,
-                            Camera& camera, SessionCatalog& catalog, ControlServer& control) {
+CaptureReport& CaptureReport::operator+=(const CaptureReport& o) {
+  frames_taken += o.frames_taken;
+  frames_skipped += o.frames_skipped;
+  motion_s += o.motion_s;
+  exposure_s += o.exposure_s;
+  transfer_s += o.transfer_s;
+  bracket_probe_s += o.bracket_probe_s;
+  operator_s += o.operator_s;
+  return *this;
+}
+
+std::vector<CaptureStep> CaptureSteps(const Plan& plan, const VisitPlan& sample,
+                                      const VisitPlan& validation) {
+  std::vector<CaptureStep> steps;
+  const bool validate = !plan.validation.empty();
+  steps.push_back({"sample", "sample", &sample, &plan.directions});
+  if (validate) steps.push_back({"validation", "sample", &validation, &plan.validation});
+  if (plan.spectralon) {
+    steps.push_back({"spectralon", "spectralon", &sample, &plan.directions});
+    if (validate)
+      steps.push_back({"spectralon_validation", "spectralon", &validation, &plan.validation});
+  }
+  return steps;
+}
+
+std::vector<double> PoseBracket(const Plan& plan, const std::string& step, int pose,
+                                CaptureContext& context, CaptureReport* report) {
+  std::vector<double> exposures = RecordedBracket(plan, step, pose, context.catalog);
+  if (!exposures.empty()) return exposures;
+  const auto start = Clock::now();
+  exposures = ChooseBracket(context.camera, plan.camera, HdrOptions{}, AutoBracketOptions{});
+  report->bracket_probe_s += Since(start);
+  std::ostringstream out;
+  out.precision(17);
+  for (double t : exposures) out << t << ' ';
+  context.catalog.RecordDecision(BracketKey(step, pose), out.str());
+  return RecordedBracket(plan, step, pose, context.catalog);  // as a resumed run will read it
+}
+
+CaptureReport Capture(const Plan& plan, const CaptureStep& step, CaptureContext& c) {
   namespace fs = std::filesystem;
   CaptureReport report;
-  SessionStatus status;
+  SessionStatus& status = c.status;
   status.state = "running";
-  const std::size_t per_pose = plan.bracket_us.size();
-  const std::size_t total = visit.poses.size() * per_pose;
+  const std::vector<PlannedPose>& poses = step.visit->poses;
   const TrapezoidProfile slowest =
       plan.motion.theta.speed < plan.motion.phi.speed ? plan.motion.theta : plan.motion.phi;
-  for (std::size_t i = 0; i < visit.poses.size(); ++i) {
-    const PlannedPose& pose = visit.poses[i];
-    bool all_done = true;
-    for (double t : plan.bracket_us) all_done = all_done && catalog.HasFrame("sample", int(i), t);
-    if (all_done) {
-      report.frames_skipped += int(per_pose);
+  auto pose_done = [&](int i) {
+    const std::vector<double> recorded = RecordedBracket(plan, step.step, i, c.catalog);
+    if (recorded.empty()) return false;
+    for (double t : recorded)
+      if (!c.catalog.HasFrame(step.step, i, t)) return false;
+    return true;
+  };
+  for (std::size_t i = 0; i < poses.size(); ++i, ++c.poses_done) {
+    const PlannedPose& pose = poses[i];
+    const std::string where =
+        step.step + " pose " + std::to_string(i + 1) + " of " + std::to_string(poses.size());
+    status.progress = c.poses_total > 0 ? double(c.poses_done) / c.poses_total : 0;
+    if (pose_done(int(i))) {
+      const int n = int(RecordedBracket(plan, step.step, int(i), c.catalog).size());
+      report.frames_skipped += n;
+      status.frames += n;
       continue;
     }
-    status.step = "sample pose " + std::to_string(i + 1) + " of " +
-                  std::to_string(visit.poses.size()) + ": moving";
-    SafePoint(control, status, gantry);
+    // The capture's ETA from this run's pace over the poses it took (not those it skipped).
+    if (c.poses_taken > 0)
+      status.eta_s = Since(c.started) / c.poses_taken * (c.poses_total - c.poses_done);
+    ++c.poses_taken;
+    report.operator_s += Place(c, step.item);
+    status.step = where + ": moving";
+    SafePoint(c);
     const auto move_start = Clock::now();
-    MoveAndWait(gantry, pose.arms, slowest, plan.motion.settle_s);
+    MoveAndWait(c.gantry, pose.arms, slowest, plan.motion.settle_s);
     report.motion_s += Since(move_start);
-    const GantryStatus arrived = gantry.Status();
+    const GantryStatus arrived = c.gantry.Status();
     const ArmAngles& m = arrived.measured;
     const double arms[4] = {m.light_theta, m.light_phi, m.camera_theta, m.camera_phi};
     for (int a = 0; a < 4; ++a) status.arms_deg[a] = RadToDeg(arms[a]);
-    for (std::size_t e = 0; e < per_pose; ++e) {
-      const double t = plan.bracket_us[e];
-      if (catalog.HasFrame("sample", int(i), t)) {
+    status.step = where + ": choosing the exposures";
+    SafePoint(c);
+    const std::vector<double> bracket = PoseBracket(plan, step.step, int(i), c, &report);
+    for (std::size_t e = 0; e < bracket.size(); ++e) {
+      const double t = bracket[e];
+      if (c.catalog.HasFrame(step.step, int(i), t)) {
         ++report.frames_skipped;
+        ++status.frames;
         continue;
       }
-      status.step = "sample pose " + std::to_string(i + 1) + " of " +
-                    std::to_string(visit.poses.size()) + ", exposure " + std::to_string(e + 1) +
-                    " of " + std::to_string(per_pose);
-      SafePoint(control, status, gantry);
+      status.step =
+          where + ", exposure " + std::to_string(e + 1) + " of " + std::to_string(bracket.size());
+      SafePoint(c);
       CameraSettings settings = plan.camera;
       settings.exposure_us = t;
-      camera.Apply(settings);
+      c.camera.Apply(settings);
       const auto grab_start = Clock::now();
-      const Frame frame = camera.Grab();
+      const Frame frame = c.camera.Grab();
       const double grab_s = Since(grab_start);
       report.exposure_s += t / 1e6;
       report.transfer_s += std::max(0.0, grab_s - t / 1e6);
-      char name[64];
-      std::snprintf(name, sizeof name, "frames/%03zu_sample_%.0fus.exr", i, t);
-      WriteFrameExr((fs::path(catalog.directory()) / name).string(), frame,
-                    {{"step", "sample"},
+      char name[96];
+      std::snprintf(name, sizeof name, "frames/%s_%03zu_%.0fus.exr", step.step.c_str(), i, t);
+      WriteFrameExr((fs::path(c.catalog.directory()) / name).string(), frame,
+                    {{"step", step.step},
                      {"pose", std::to_string(i)},
-                     {"direction", plan.directions[pose.index].where},
+                     {"direction", (*step.directions)[pose.index].where},
                      {"arms_commanded_deg", Degrees(pose.arms)},
                      {"arms_measured_deg", Degrees(arrived.measured)},
-                     {"camera", camera.Describe()}});
-      catalog.RecordFrame({"sample", int(i), t, name, "", 0});
+                     {"camera", c.camera.Describe()}});
+      c.catalog.RecordFrame({step.step, int(i), t, name, "", 0});
       ++report.frames_taken;
-      const StreamStatistics stats = camera.Statistics();
-      status.frames = report.frames_taken + report.frames_skipped;
+      const StreamStatistics stats = c.camera.Statistics();
+      ++status.frames;
       status.incomplete_frames = long(stats.incomplete);
-      status.progress = double(status.frames) / double(total);
     }
   }
-  catalog.MarkStepDone("sample");
-  status.state = "done";
-  status.step = "sample captured";
-  status.progress = 1;
-  control.Publish(status);
+  c.catalog.MarkStepDone(step.step);
+  status.step = step.step + " captured";
+  c.control.Publish(status);
   return report;
 }
 

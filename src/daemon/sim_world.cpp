@@ -2,9 +2,11 @@
 
 #include <unistd.h>
 
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 
+#include "acq/map_score.h"
 #include "calib/synthetic_board.h"
 #include "core/error.h"
 
@@ -89,6 +91,36 @@ SimWorld::SimWorld(const Plan& plan) {
 
 double SimWorld::LightIntensityInCounts(PixelFormat format) const {
   return light_intensity_ * sensor_.CountsPerRadianceUs(MaxValue(format));
+}
+
+void SimWorld::Place(const std::string& item) {
+  sim::RenderScene scene = scene_;
+  if (item == "spectralon")
+    scene.kind = sim::RenderScene::Kind::kSpectralon;
+  else if (item != "sample")
+    throw UserError("simulated world", "cannot place '" + item + "'");
+  camera_->SetScene(std::move(scene));
+}
+
+std::vector<int> SimWorld::LabelsAt(const std::vector<Eigen::Vector3d>& points) const {
+  const sim::SyntheticSvbrdf& card = scene_.card;
+  const double size = scene_.sample_size_mm;
+  std::vector<int> labels;
+  labels.reserve(points.size());
+  for (const Eigen::Vector3d& p : points) {
+    // The renderer's rule (sim/sample_renderer.cpp): the label cell the point falls in.
+    const int x = int(std::floor((p.x() / size + 0.5) * card.width));
+    const int y = int(std::floor((p.y() / size + 0.5) * card.height));
+    const bool on = std::isfinite(p.x()) && x >= 0 && y >= 0 && x < card.width && y < card.height;
+    labels.push_back(on ? int(card.label[std::size_t(y) * card.width + x]) : -1);
+  }
+  return labels;
+}
+
+std::vector<MerlBrdf> SimWorld::TruthTables() const {
+  std::vector<MerlBrdf> tables;
+  for (const NeuralBrdf& n : networks_) tables.push_back(LuminanceOf(n.Tabulate()));
+  return tables;
 }
 
 void SimWorld::WriteGroundTruth(const std::string& dir) const {

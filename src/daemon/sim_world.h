@@ -35,6 +35,14 @@ class SimWorld {
   // The light's intensity in the HDR images' units (counts per us at 0 dB, x mm^2): what a
   // Spectralon capture measures on the instrument; here the simulated sensor's own scale.
   double LightIntensityInCounts(PixelFormat format) const;
+  // Puts `item` under the gantry in place of the operator: "sample" (the card) or "spectralon".
+  void Place(const std::string& item);
+  // The true material under each sample-plane point (mm), an index into TruthTables(); -1 off
+  // the card.
+  std::vector<int> LabelsAt(const std::vector<Eigen::Vector3d>& points) const;
+  // The card's materials tabulated on the MERL grid as the simulated mono camera records them
+  // (luminance in every channel).
+  std::vector<MerlBrdf> TruthTables() const;
   // Writes the card's ground truth (labels, material names, camera model) into `dir`.
   void WriteGroundTruth(const std::string& dir) const;
 

@@ -109,6 +109,9 @@ SessionCatalog::SessionCatalog(const std::string& session_dir)
       "CREATE TABLE IF NOT EXISTS steps (step TEXT PRIMARY KEY,"
       " done TEXT DEFAULT CURRENT_TIMESTAMP)");
   Exec(
+      "CREATE TABLE IF NOT EXISTS decisions (key TEXT PRIMARY KEY, value TEXT NOT NULL,"
+      " decided TEXT DEFAULT CURRENT_TIMESTAMP)");
+  Exec(
       "CREATE TABLE IF NOT EXISTS events (time TEXT DEFAULT CURRENT_TIMESTAMP,"
       " level TEXT NOT NULL, message TEXT NOT NULL)");
 }
@@ -158,6 +161,19 @@ std::vector<CatalogFrame> SessionCatalog::Frames() const {
 
 void SessionCatalog::MarkStepDone(const std::string& step) {
   Statement(db_, "INSERT OR IGNORE INTO steps (step) VALUES (?)", path_).Bind(1, step).Step();
+}
+
+void SessionCatalog::RecordDecision(const std::string& key, const std::string& value) {
+  Statement(db_, "INSERT INTO decisions (key, value) VALUES (?, ?)", path_)
+      .Bind(1, key)
+      .Bind(2, value)
+      .Step();
+}
+
+std::string SessionCatalog::Decision(const std::string& key) const {
+  Statement s(db_, "SELECT value FROM decisions WHERE key = ?", path_);
+  s.Bind(1, key);
+  return s.Step() ? s.Text(0) : "";
 }
 
 bool SessionCatalog::StepDone(const std::string& step) const {

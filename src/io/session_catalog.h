@@ -44,6 +44,10 @@ class SessionCatalog {
   void MarkStepDone(const std::string& step);
   bool StepDone(const std::string& step) const;
   void Event(const std::string& level, const std::string& message);
+  // Choices made while capturing that a resumed run must repeat, not make again (the automatic
+  // bracket chosen at a pose): recorded once (UserError on a second time), "" when not made.
+  void RecordDecision(const std::string& key, const std::string& value);
+  std::string Decision(const std::string& key) const;
 
   struct Repair {
     int verified = 0;

@@ -1,0 +1,32 @@
+// Scoring an SVBRDF map against known materials (synthetic inputs, the simulated instrument):
+// every pixel's reconstruction Q_k c + mu against its true material's table, as log-space RMSE
+// over all valid bins of the MERL grid (the error of the homogeneous evaluations, brdf/
+// evaluation.h, per pixel).
+#pragma once
+
+#include <vector>
+
+#include "brdf/basis.h"
+#include "brdf/merl_brdf.h"
+#include "io/svbrdf_map.h"
+
+namespace acq {
+
+struct MapScore {
+  long pixels = 0, valid = 0;
+  double median_log_rmse = 0;                    // over every pixel channel of the map
+  double median_log_rmse_valid = 0;              // over the pixels the map marks valid
+  std::vector<float> log_rmse;                   // per pixel, mean over its channels
+  std::vector<double> material_median_log_rmse;  // per true material, over its pixels
+};
+
+// `label[pixel]` indexes `truth`; negative: no truth there (not scored). Throws UserError when
+// the sizes disagree or the basis has fewer components than the map.
+MapScore ScoreMap(const SvbrdfMap& map, const BasisView& basis, const std::vector<int>& label,
+                  const std::vector<MerlBrdf>& truth);
+
+// What a mono camera records of a colour BRDF: Rec. 709 luminance in all three channels (the
+// simulated camera's luminance channel, sim/sample_renderer.h).
+MerlBrdf LuminanceOf(const MerlBrdf& brdf);
+
+}  // namespace acq

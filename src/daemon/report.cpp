@@ -1,0 +1,145 @@
+#include "daemon/report.h"
+
+#include <cstdio>
+#include <sstream>
+
+#include "io/session_catalog.h"
+
+namespace acq {
+namespace {
+
+std::string Quoted(const std::string& s) {
+  std::string out = "\"";
+  for (char c : s) {
+    if (c == '"' || c == '\\') out += '\\';
+    if (static_cast<unsigned char>(c) >= 0x20) out += c;
+  }
+  return out + "\"";
+}
+
+std::string Joined(const std::vector<double>& values) {
+  std::ostringstream out;
+  for (std::size_t i = 0; i < values.size(); ++i) out << (i ? ", " : "") << values[i];
+  return out.str();
+}
+
+std::string Share(double part, double whole) {
+  char s[32];
+  std::snprintf(s, sizeof s, "%5.1f%%", whole > 0 ? 100 * part / whole : 0.0);
+  return s;
+}
+
+}  // namespace
+
+double SessionReport::OverheadS() const {
+  const ProcessReport& p = process;
+  return wall_s - capture.motion_s - capture.exposure_s - capture.transfer_s -
+         capture.bracket_probe_s - capture.operator_s - p.hdr_s - p.correspondence_s -
+         p.reconstruction_s - p.validation_s;
+}
+
+std::string SessionReport::Json() const {
+  std::ostringstream j;
+  j.precision(6);
+  const ProcessReport& p = process;
+  const ReconstructionReport& r = p.reconstruction;
+  j << "{\n  \"plan\": " << Quoted(plan) << ",\n  \"backend\": " << Quoted(backend)
+    << ",\n  \"session\": " << Quoted(session) << ",\n  \"time_s\": {\"wall\": " << wall_s
+    << ", \"motion\": " << capture.motion_s << ", \"exposure\": " << capture.exposure_s
+    << ", \"transfer\": " << capture.transfer_s
+    << ", \"bracket_probes\": " << capture.bracket_probe_s
+    << ", \"operator\": " << capture.operator_s << ", \"hdr_merge\": " << p.hdr_s
+    << ", \"correspondence\": " << p.correspondence_s
+    << ", \"reconstruction\": " << p.reconstruction_s << ", \"validation\": " << p.validation_s
+    << ", \"planning\": " << planning_s << ", \"daemon_overhead\": " << OverheadS()
+    << "},\n  \"frames\": {\"taken\": " << capture.frames_taken
+    << ", \"already_there\": " << capture.frames_skipped
+    << "},\n  \"map\": {\"file\": " << Quoted("svbrdf.exr") << ", \"width\": " << p.reference_width
+    << ", \"height\": " << p.reference_height << ", \"pixel_size_mm\": " << p.pixel_size_mm
+    << ", \"pixels\": " << r.pixels << ", \"valid\": " << r.valid
+    << ", \"no_observation\": " << r.no_observation
+    << ", \"too_few_observations\": " << r.too_few_observations
+    << ", \"poorly_conditioned\": " << r.poorly_conditioned << "},\n  \"validation\": [";
+  for (std::size_t i = 0; i < p.validation.size(); ++i) {
+    const ValidationSummary& v = p.validation[i];
+    j << (i ? ",\n    " : "\n    ") << "{\"direction\": " << Quoted(v.name)
+      << ", \"pixels\": " << v.pixels << ", \"relative_rms\": " << v.relative_rms
+      << ", \"median_relative\": " << v.median_relative << ", \"render\": " << Quoted(v.render)
+      << "}";
+  }
+  j << "]";
+  if (scored)
+    j << ",\n  \"ground_truth\": {\"median_log_rmse\": " << score.median_log_rmse
+      << ", \"median_log_rmse_valid\": " << score.median_log_rmse_valid
+      << ", \"pixels\": " << score.pixels << ", \"valid\": " << score.valid
+      << ", \"homogeneous_median_log_rmse\": " << homogeneous_median_log_rmse
+      << ", \"material_median_log_rmse\": [" << Joined(score.material_median_log_rmse)
+      << "], \"material_homogeneous_log_rmse\": [" << Joined(homogeneous_log_rmse) << "]}";
+  j << "\n}\n";
+  return j.str();
+}
+
+std::string SessionReport::Text() const {
+  const ProcessReport& p = process;
+  const ReconstructionReport& r = p.reconstruction;
+  std::ostringstream t;
+  char line[256];
+  t << "session " << session << " (plan " << plan << ", backend " << backend << ")\n\n";
+  t << "where the time went (" << wall_s << " s in all):\n";
+  const std::pair<const char*, double> rows[] = {
+      {"motion and settling", capture.motion_s},
+      {"exposure", capture.exposure_s},
+      {"transfer", capture.transfer_s},
+      {"choosing brackets (probes)", capture.bracket_probe_s},
+      {"waiting for the operator", capture.operator_s},
+      {"HDR merge", p.hdr_s},
+      {"correspondence", p.correspondence_s},
+      {"reconstruction", p.reconstruction_s},
+      {"validation renders", p.validation_s},
+      {"daemon overhead", OverheadS()},
+      {"  of which planning the order", planning_s}};
+  for (const auto& [what, s] : rows) {
+    std::snprintf(line, sizeof line, "  %-30s %8.2f s  %s\n", what, s, Share(s, wall_s).c_str());
+    t << line;
+  }
+  std::snprintf(line, sizeof line, "\nframes: %d taken, %d already there\n", capture.frames_taken,
+                capture.frames_skipped);
+  t << line;
+  std::snprintf(line, sizeof line,
+                "map svbrdf.exr: %d x %d pixels of %.3f mm; %ld valid (%.1f%%); not valid: %ld "
+                "with no observation, %ld too few, %ld poorly conditioned\n",
+                p.reference_width, p.reference_height, p.pixel_size_mm, r.valid,
+                r.pixels ? 100.0 * double(r.valid) / double(r.pixels) : 0.0, r.no_observation,
+                r.too_few_observations, r.poorly_conditioned);
+  t << line;
+  for (const ValidationSummary& v : p.validation) {
+    std::snprintf(line, sizeof line,
+                  "validation %s: relative RMS error %.3f, median per pixel %.3f over %ld pixels "
+                  "(%s)\n",
+                  v.name.c_str(), v.relative_rms, v.median_relative, v.pixels, v.render.c_str());
+    t << line;
+  }
+  if (scored) {
+    std::snprintf(line, sizeof line,
+                  "against the ground truth: median per-pixel log-space RMSE %.4f (valid pixels "
+                  "%.4f); homogeneous result for the same materials and directions %.4f\n",
+                  score.median_log_rmse, score.median_log_rmse_valid, homogeneous_median_log_rmse);
+    t << line;
+    for (std::size_t m = 0; m < score.material_median_log_rmse.size(); ++m) {
+      std::snprintf(
+          line, sizeof line, "  material %zu %-24s per-pixel median %.4f, homogeneous %.4f\n", m,
+          m < materials.size() ? materials[m].c_str() : "", score.material_median_log_rmse[m],
+          m < homogeneous_log_rmse.size() ? homogeneous_log_rmse[m] : 0.0);
+      t << line;
+    }
+  }
+  return t.str();
+}
+
+void WriteReport(const SessionReport& report, const std::string& session_dir) {
+  const std::string json = report.Json(), text = report.Text();
+  WriteFileAtomically(session_dir + "/report.json", json.data(), json.size());
+  WriteFileAtomically(session_dir + "/report.txt", text.data(), text.size());
+}
+
+}  // namespace acq

@@ -1,0 +1,41 @@
+// The session report (issue 8): where the time went and what came out, written as report.json
+// (for programs and tests) and report.txt (for people) into the session directory.
+//
+// Time is split into the instrument's (motion and settling, exposure, transfer: what a faster
+// daemon could not shorten), the operator's, processing (per stage), and the daemon's own
+// overhead: the session's wall time less all of those (starting the devices, planning the
+// visiting order, writing frames and the catalog, publishing status).
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "acq/map_score.h"
+#include "daemon/capture.h"
+#include "daemon/process.h"
+
+namespace acq {
+
+struct SessionReport {
+  std::string plan, backend, session;
+  double wall_s = 0;      // acqd's start to the report
+  double planning_s = 0;  // the visiting order
+  CaptureReport capture;
+  ProcessReport process;
+  // The simulated instrument only: the map against the card's true materials, and the
+  // homogeneous result for the same materials and directions (Yu et al. / NJR15 evaluation).
+  bool scored = false;
+  MapScore score;
+  double homogeneous_median_log_rmse = 0;
+  std::vector<std::string> materials;        // names, in label order
+  std::vector<double> homogeneous_log_rmse;  // per material (mean over its channels)
+
+  double OverheadS() const;
+  std::string Json() const;
+  std::string Text() const;
+};
+
+// report.json and report.txt into the session directory (atomically, each).
+void WriteReport(const SessionReport& report, const std::string& session_dir);
+
+}  // namespace acq
