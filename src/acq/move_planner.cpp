@@ -57,19 +57,32 @@ double GantryMotion::MoveSeconds(const ArmAngles& a, const ArmAngles& b) const {
 
 std::string GantryMotion::MoveViolation(const ArmAngles& a, const ArmAngles& b) const {
   // All axes move together from start to end: sample the path finely (1 degree of the longest
-  // axis travel) and check the arms at every sample.
-  const double travel = std::max({std::abs(b.light_theta - a.light_theta),
-                                  std::abs(WrapDelta(b.light_phi - a.light_phi)),
-                                  std::abs(b.camera_theta - a.camera_theta),
-                                  std::abs(WrapDelta(b.camera_phi - a.camera_phi))});
+  // axis travel) and check the arms at every sample. The planner asks this for every pair of
+  // (pose, azimuth) states, so the samples are checked on the angles directly (horizon, light
+  // reach, and the separation by the spherical law of cosines against cos(min_separation)); the
+  // constraints' own Violation() words the first sample that fails.
+  const double d_light_theta = b.light_theta - a.light_theta;
+  const double d_light_phi = WrapDelta(b.light_phi - a.light_phi);
+  const double d_camera_theta = b.camera_theta - a.camera_theta;
+  const double d_camera_phi = WrapDelta(b.camera_phi - a.camera_phi);
+  const double travel = std::max({std::abs(d_light_theta), std::abs(d_light_phi),
+                                  std::abs(d_camera_theta), std::abs(d_camera_phi)});
   const int steps = std::max(1, int(std::ceil(travel / DegToRad(1))));
+  const DirectionConstraints& c = constraints;
+  const double cos_min_separation = std::cos(c.min_separation);
   for (int i = 0; i <= steps; ++i) {
     const double t = double(i) / steps;
-    const ArmAngles p{a.light_theta + t * (b.light_theta - a.light_theta),
-                      a.light_phi + t * WrapDelta(b.light_phi - a.light_phi),
-                      a.camera_theta + t * (b.camera_theta - a.camera_theta),
-                      a.camera_phi + t * WrapDelta(b.camera_phi - a.camera_phi)};
-    const std::string why = constraints.Violation(p);
+    const ArmAngles p{a.light_theta + t * d_light_theta, a.light_phi + t * d_light_phi,
+                      a.camera_theta + t * d_camera_theta, a.camera_phi + t * d_camera_phi};
+    const double cl = std::cos(p.light_theta), cc = std::cos(p.camera_theta);
+    bool ok = cl > 0 && cc > 0;
+    if (ok && c.enabled) {
+      const double cos_separation = cl * cc + std::sin(p.light_theta) * std::sin(p.camera_theta) *
+                                                  std::cos(p.light_phi - p.camera_phi);
+      ok = p.light_theta <= c.max_light_zenith && cos_separation <= cos_min_separation;
+    }
+    if (ok) continue;
+    const std::string why = c.Violation(p);
     // The camera-zenith rule is about where images are taken, not about moving through.
     if (!why.empty() && why.find("camera zenith") == std::string::npos) return why;
   }

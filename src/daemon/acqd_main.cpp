@@ -242,7 +242,9 @@ int Run(int argc, char** argv) {
       plan, catalog,
       {world->camera_model(), world->LightIntensityInCounts(plan.camera.pixel_format)});
   phase("scoring against the simulated card's ground truth");
+  const auto scoring_start = Clock::now();
   ScoreAgainstTruth(plan, *world, &report);
+  report.scoring_s = Since(scoring_start);
   report.wall_s = Since(session_start);
   WriteReport(report, plan.output);
   std::printf("\n%s\nreport: %s/report.txt and report.json\n", report.Text().c_str(),

@@ -204,8 +204,12 @@ CaptureReport Capture(const Plan& plan, const CaptureStep& step, CaptureContext&
       const auto grab_start = Clock::now();
       const Frame frame = c.camera.Grab();
       const double grab_s = Since(grab_start);
-      report.exposure_s += t / 1e6;
-      report.transfer_s += std::max(0.0, grab_s - t / 1e6);
+      // The grab's wall time split into the exposure and the rest (trigger, readout,
+      // transfer). A simulated camera renders at once, whatever the exposure: there the grab
+      // can be shorter than the exposure, and only the time spent is counted.
+      const double exposing_s = std::min(grab_s, t / 1e6);
+      report.exposure_s += exposing_s;
+      report.transfer_s += grab_s - exposing_s;
       char name[96];
       std::snprintf(name, sizeof name, "frames/%s_%03zu_%.0fus.exr", step.step.c_str(), i, t);
       WriteFrameExr((fs::path(c.catalog.directory()) / name).string(), frame,

@@ -35,7 +35,7 @@ double SessionReport::OverheadS() const {
   const ProcessReport& p = process;
   return wall_s - capture.motion_s - capture.exposure_s - capture.transfer_s -
          capture.bracket_probe_s - capture.operator_s - p.hdr_s - p.correspondence_s -
-         p.reconstruction_s - p.validation_s;
+         p.reconstruction_s - p.validation_s - scoring_s;
 }
 
 std::string SessionReport::Json() const {
@@ -51,7 +51,8 @@ std::string SessionReport::Json() const {
     << ", \"operator\": " << capture.operator_s << ", \"hdr_merge\": " << p.hdr_s
     << ", \"correspondence\": " << p.correspondence_s
     << ", \"reconstruction\": " << p.reconstruction_s << ", \"validation\": " << p.validation_s
-    << ", \"planning\": " << planning_s << ", \"daemon_overhead\": " << OverheadS()
+    << ", \"scoring\": " << scoring_s << ", \"planning\": " << planning_s
+    << ", \"daemon_overhead\": " << OverheadS()
     << "},\n  \"frames\": {\"taken\": " << capture.frames_taken
     << ", \"already_there\": " << capture.frames_skipped
     << "},\n  \"map\": {\"file\": " << Quoted("svbrdf.exr") << ", \"width\": " << p.reference_width
@@ -96,6 +97,7 @@ std::string SessionReport::Text() const {
       {"correspondence", p.correspondence_s},
       {"reconstruction", p.reconstruction_s},
       {"validation renders", p.validation_s},
+      {"scoring against the truth", scoring_s},
       {"daemon overhead", OverheadS()},
       {"  of which planning the order", planning_s}};
   for (const auto& [what, s] : rows) {

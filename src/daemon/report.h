@@ -20,6 +20,7 @@ struct SessionReport {
   std::string plan, backend, session;
   double wall_s = 0;      // acqd's start to the report
   double planning_s = 0;  // the visiting order
+  double scoring_s = 0;   // against the simulated truth (simulation only)
   CaptureReport capture;
   ProcessReport process;
   // The simulated instrument only: the map against the card's true materials, and the
