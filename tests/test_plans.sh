@@ -44,6 +44,8 @@ expect "colliding direction" 1 colliding.yaml --dry-run -- \
   "directions.tsv:6:" "only 60.000 deg apart, the arms need 90.000"
 expect "missing directions file" 1 missing_file.yaml --dry-run -- \
   "missing_file.yaml:15:9:" "no such file" "no-such-directions.tsv"
+expect "missing validation directions file" 1 missing_validation.yaml --dry-run -- \
+  "missing_validation.yaml:16:15:" "no such file" "no-such-validation.tsv" "leave directions.validation out"
 expect "missing basis" 1 missing_basis.yaml --dry-run -- \
   "missing_basis.yaml:21:10:" "reconstruction.basis: no such file" "acq basis build"
 expect "unknown backend" 1 unknown_backend.yaml --dry-run -- \

@@ -1,12 +1,14 @@
 // acqd: runs a capture session from a plan (issue 8).
 //
-// Built so far: the plan is loaded and validated completely before anything is opened or moved
-// (every error with file:line:column and the fix); `--dry-run` prints the schedule, the
-// collision-checked visiting order and the estimated time. A run opens the control socket, the
-// backend (for sim: re-executed into the simulated instrument's environment), the gantry and the
-// camera, verifies the session catalog (resuming what a killed run left), homes, and captures
-// the sample's HDR brackets at every pose. Not built yet, and said so at the end of a run: the
-// calibration, board and Spectralon captures and the processing inside acqd.
+// The plan is loaded and validated completely before anything is opened or moved (every error
+// with file:line:column and the fix); `--dry-run` prints the schedule, the collision-checked
+// visiting order and the estimated time. A run opens the control socket, the backend (for sim:
+// re-executed into the simulated instrument's environment), the gantry and the camera, verifies
+// the session catalog (resuming what a killed run left), homes, and runs the capture steps
+// (capture.h: sample, validation, Spectralon). For the simulated instrument it then processes
+// the session (process.h), scores the map against the card's ground truth and writes the report
+// (report.h). Not built yet, and said so at the end of a run: the intrinsics and board captures
+// and the processing for a real instrument.
 #include <chrono>
 #include <cstdio>
 #include <cstring>
@@ -118,6 +120,9 @@ void PrintDryRun(const Plan& plan) {
   std::printf("  3. per pose: one board capture for cam_from_sample (board on the sample plane)\n");
   std::printf("  4. per pose: the sample, %s bracket of %zu frames\n",
               plan.auto_bracket ? "automatic" : "fixed", bracket);
+  if (!plan.validation.empty())
+    std::printf("     then %zu validation poses (%s), never used to reconstruct\n",
+                plan.validation.size(), plan.validation_file.c_str());
   if (plan.spectralon) std::printf("  5. per pose: the Spectralon board, same bracket\n");
   std::printf(
       "  6. processing: calibration, correspondence, HDR merge, reconstruction, renders, "
