@@ -25,6 +25,7 @@
 #include "brdf/evaluation.h"
 #include "core/angles.h"
 #include "core/error.h"
+#include "core/seconds_since.h"
 #include "daemon/capture.h"
 #include "daemon/control.h"
 #include "daemon/process.h"
@@ -49,12 +50,6 @@ constexpr const char* kUsage =
 // (measured: 0.06 s for 2048 x 2048 Mono16 on loopback; a real link is slower) plus the
 // exposure change. An estimate for planning, not a promise.
 constexpr double kFrameOverheadS = 0.15;
-
-using Clock = std::chrono::steady_clock;
-
-double Since(Clock::time_point t) {
-  return std::chrono::duration<double>(Clock::now() - t).count();
-}
 
 // The simulated session's map against the card's true materials (as the mono camera records
 // them), and the homogeneous result for the same materials at the same directions.
@@ -173,7 +168,7 @@ int Run(int argc, char** argv) {
   if (plan.backend == Backend::kSim && !SimEnvironmentReady())
     throw UserError("acqd", ReexecForSim(argc, argv),
                     "the sim backend needs unshare (util-linux), ip (iproute2) and umockdev");
-  const auto session_start = Clock::now();
+  const auto session_start = SteadyClock::now();
   SessionReport report;
   report.plan = plan.path;
   report.backend = BackendName(plan.backend);
@@ -215,11 +210,11 @@ int Run(int argc, char** argv) {
   gantry.Home();
   while (gantry.Status().Moving()) std::this_thread::sleep_for(std::chrono::milliseconds(20));
   phase("planning the visiting order");
-  auto planning_start = Clock::now();
+  auto planning_start = SteadyClock::now();
   const VisitPlan visit = PlanShortest(plan.directions, plan.motion);
   const VisitPlan validation_visit =
       plan.validation.empty() ? VisitPlan() : PlanShortest(plan.validation, plan.motion);
-  report.planning_s = Since(planning_start);
+  report.planning_s = SecondsSince(planning_start);
   const std::vector<CaptureStep> steps = CaptureSteps(plan, visit, validation_visit);
   CaptureContext context{gantry, camera, catalog, control, status};
   if (world) context.place = [&](const std::string& item) { world->Place(item); };
@@ -247,10 +242,10 @@ int Run(int argc, char** argv) {
       plan, catalog,
       {world->camera_model(), world->LightIntensityInCounts(plan.camera.pixel_format)});
   phase("scoring against the simulated card's ground truth");
-  const auto scoring_start = Clock::now();
+  const auto scoring_start = SteadyClock::now();
   ScoreAgainstTruth(plan, *world, &report);
-  report.scoring_s = Since(scoring_start);
-  report.wall_s = Since(session_start);
+  report.scoring_s = SecondsSince(scoring_start);
+  report.wall_s = SecondsSince(session_start);
   WriteReport(report, plan.output);
   std::printf("\n%s\nreport: %s/report.txt and report.json\n", report.Text().c_str(),
               plan.output.c_str());

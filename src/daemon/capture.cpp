@@ -9,16 +9,11 @@
 #include "acq/hdr.h"
 #include "core/angles.h"
 #include "core/error.h"
+#include "core/seconds_since.h"
 #include "hw/frame_file.h"
 
 namespace acq {
 namespace {
-
-using Clock = std::chrono::steady_clock;
-
-double Since(Clock::time_point t) {
-  return std::chrono::duration<double>(Clock::now() - t).count();
-}
 
 std::string Degrees(const ArmAngles& a) {
   char s[96];
@@ -72,7 +67,7 @@ const char* Instructions(const std::string& item) {
 // arms are over the sample, out of the operator's way at their last pose).
 double Place(CaptureContext& c, const std::string& item) {
   if (c.placed == item) return 0;
-  const auto start = Clock::now();
+  const auto start = SteadyClock::now();
   if (c.place) {
     c.place(item);
   } else {
@@ -88,7 +83,7 @@ double Place(CaptureContext& c, const std::string& item) {
   }
   c.placed = item;
   c.catalog.Event("info", item + " placed");
-  return Since(start);
+  return SecondsSince(start);
 }
 
 std::string BracketKey(const std::string& step, int pose) {
@@ -102,6 +97,21 @@ std::vector<double> RecordedBracket(const Plan& plan, const std::string& step, i
   std::vector<double> exposures;
   for (double t; in >> t;) exposures.push_back(t);
   return exposures;
+}
+
+// The automatic bracket chosen at the pose the gantry holds, recorded so that a resumed run
+// takes the same exposures; returned as the catalog gives it back (what a resumed run reads).
+std::vector<double> ChooseAndRecordBracket(const Plan& plan, const std::string& step, int pose,
+                                           CaptureContext& c, CaptureReport* report) {
+  const auto start = SteadyClock::now();
+  const std::vector<double> exposures =
+      ChooseBracket(c.camera, plan.camera, HdrOptions{}, AutoBracketOptions{});
+  report->bracket_probe_s += SecondsSince(start);
+  std::ostringstream out;
+  out.precision(17);
+  for (double t : exposures) out << t << ' ';
+  c.catalog.RecordDecision(BracketKey(step, pose), out.str());
+  return RecordedBracket(plan, step, pose, c.catalog);
 }
 
 }  // namespace
@@ -131,20 +141,6 @@ std::vector<CaptureStep> CaptureSteps(const Plan& plan, const VisitPlan& sample,
   return steps;
 }
 
-std::vector<double> PoseBracket(const Plan& plan, const std::string& step, int pose,
-                                CaptureContext& context, CaptureReport* report) {
-  std::vector<double> exposures = RecordedBracket(plan, step, pose, context.catalog);
-  if (!exposures.empty()) return exposures;
-  const auto start = Clock::now();
-  exposures = ChooseBracket(context.camera, plan.camera, HdrOptions{}, AutoBracketOptions{});
-  report->bracket_probe_s += Since(start);
-  std::ostringstream out;
-  out.precision(17);
-  for (double t : exposures) out << t << ' ';
-  context.catalog.RecordDecision(BracketKey(step, pose), out.str());
-  return RecordedBracket(plan, step, pose, context.catalog);  // as a resumed run will read it
-}
-
 CaptureReport Capture(const Plan& plan, const CaptureStep& step, CaptureContext& c) {
   namespace fs = std::filesystem;
   CaptureReport report;
@@ -153,41 +149,37 @@ CaptureReport Capture(const Plan& plan, const CaptureStep& step, CaptureContext&
   const std::vector<PlannedPose>& poses = step.visit->poses;
   const TrapezoidProfile slowest =
       plan.motion.theta.speed < plan.motion.phi.speed ? plan.motion.theta : plan.motion.phi;
-  auto pose_done = [&](int i) {
-    const std::vector<double> recorded = RecordedBracket(plan, step.step, i, c.catalog);
-    if (recorded.empty()) return false;
-    for (double t : recorded)
-      if (!c.catalog.HasFrame(step.step, i, t)) return false;
-    return true;
-  };
   for (std::size_t i = 0; i < poses.size(); ++i, ++c.poses_done) {
     const PlannedPose& pose = poses[i];
     const std::string where =
         step.step + " pose " + std::to_string(i + 1) + " of " + std::to_string(poses.size());
     status.progress = c.poses_total > 0 ? double(c.poses_done) / c.poses_total : 0;
-    if (pose_done(int(i))) {
-      const int n = int(RecordedBracket(plan, step.step, int(i), c.catalog).size());
-      report.frames_skipped += n;
-      status.frames += n;
+    // Empty for an automatic bracket not chosen yet: the pose is not done.
+    std::vector<double> bracket = RecordedBracket(plan, step.step, int(i), c.catalog);
+    bool done = !bracket.empty();
+    for (double t : bracket) done = done && c.catalog.HasFrame(step.step, int(i), t);
+    if (done) {
+      report.frames_skipped += int(bracket.size());
+      status.frames += long(bracket.size());
       continue;
     }
     // The capture's ETA from this run's pace over the poses it took (not those it skipped).
     if (c.poses_taken > 0)
-      status.eta_s = Since(c.started) / c.poses_taken * (c.poses_total - c.poses_done);
+      status.eta_s = SecondsSince(c.started) / c.poses_taken * (c.poses_total - c.poses_done);
     ++c.poses_taken;
     report.operator_s += Place(c, step.item);
     status.step = where + ": moving";
     SafePoint(c);
-    const auto move_start = Clock::now();
+    const auto move_start = SteadyClock::now();
     MoveAndWait(c.gantry, pose.arms, slowest, plan.motion.settle_s);
-    report.motion_s += Since(move_start);
+    report.motion_s += SecondsSince(move_start);
     const GantryStatus arrived = c.gantry.Status();
     const ArmAngles& m = arrived.measured;
     const double arms[4] = {m.light_theta, m.light_phi, m.camera_theta, m.camera_phi};
     for (int a = 0; a < 4; ++a) status.arms_deg[a] = RadToDeg(arms[a]);
     status.step = where + ": choosing the exposures";
     SafePoint(c);
-    const std::vector<double> bracket = PoseBracket(plan, step.step, int(i), c, &report);
+    if (bracket.empty()) bracket = ChooseAndRecordBracket(plan, step.step, int(i), c, &report);
     for (std::size_t e = 0; e < bracket.size(); ++e) {
       const double t = bracket[e];
       if (c.catalog.HasFrame(step.step, int(i), t)) {
@@ -201,9 +193,9 @@ CaptureReport Capture(const Plan& plan, const CaptureStep& step, CaptureContext&
       CameraSettings settings = plan.camera;
       settings.exposure_us = t;
       c.camera.Apply(settings);
-      const auto grab_start = Clock::now();
+      const auto grab_start = SteadyClock::now();
       const Frame frame = c.camera.Grab();
-      const double grab_s = Since(grab_start);
+      const double grab_s = SecondsSince(grab_start);
       // The grab's wall time split into the exposure and the rest (trigger, readout,
       // transfer). A simulated camera renders at once, whatever the exposure: there the grab
       // can be shorter than the exposure, and only the time spent is counted.

@@ -12,13 +12,13 @@
 // by the simulated world.
 #pragma once
 
-#include <chrono>
 #include <functional>
 #include <string>
 #include <vector>
 
 #include "acq/move_planner.h"
 #include "acq/plan.h"
+#include "core/seconds_since.h"
 #include "daemon/control.h"
 #include "hw/camera.h"
 #include "hw/gantry.h"
@@ -57,15 +57,10 @@ struct CaptureContext {
   std::string placed;  // the item known to be under the gantry ("" after a restart)
   int poses_done = 0, poses_total = 0;  // for the progress over the whole session
   int poses_taken = 0;                  // this run: the rate the ETA is estimated from
-  std::chrono::steady_clock::time_point started = std::chrono::steady_clock::now();
+  SteadyClock::time_point started = SteadyClock::now();
 };
 
 // Captures one step. Throws UserError on an abort (the gantry stopped) and on device failures.
 CaptureReport Capture(const Plan& plan, const CaptureStep& step, CaptureContext& context);
-
-// The exposures of a pose's bracket: the plan's fixed bracket, or the automatic one chosen at
-// the pose (and recorded in the catalog, so that a resumed run takes the same exposures).
-std::vector<double> PoseBracket(const Plan& plan, const std::string& step, int pose,
-                                CaptureContext& context, CaptureReport* report);
 
 }  // namespace acq

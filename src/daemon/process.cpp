@@ -14,6 +14,7 @@
 #include "calib/synthetic_board.h"
 #include "core/angles.h"
 #include "core/error.h"
+#include "core/seconds_since.h"
 #include "hw/frame_file.h"
 #include "io/float_planes_exr.h"
 #include "sim/sim_gige_camera.h"
@@ -21,12 +22,7 @@
 namespace acq {
 namespace {
 
-using Clock = std::chrono::steady_clock;
 namespace fs = std::filesystem;
-
-double Since(Clock::time_point t) {
-  return std::chrono::duration<double>(Clock::now() - t).count();
-}
 
 ArmAngles ParseArms(const std::string& degrees, const std::string& where) {
   std::istringstream in(degrees);
@@ -52,7 +48,7 @@ struct PoseHdr {
 // Merges every pose of `step` and writes hdr/<step>_NNN.exr.
 std::map<int, PoseHdr> MergeStep(const std::string& step, SessionCatalog& catalog,
                                  ProcessReport* report) {
-  const auto start = Clock::now();
+  const auto start = SteadyClock::now();
   const std::string dir = catalog.directory();
   std::map<int, std::vector<CatalogFrame>> by_pose;
   for (const CatalogFrame& f : catalog.Frames())
@@ -75,7 +71,7 @@ std::map<int, PoseHdr> MergeStep(const std::string& step, SessionCatalog& catalo
     file.attributes["unit"] = "counts per microsecond at 0 dB";
     WriteFloatPlanesExr(dir + "/hdr/" + PoseName(step, pose) + ".exr", file);
   }
-  report->hdr_s += Since(start);
+  report->hdr_s += SecondsSince(start);
   return merged;
 }
 
@@ -97,7 +93,7 @@ std::vector<SessionView> ViewsOf(const Plan& plan, const std::string& step,
   const std::map<int, PoseHdr> sample = MergeStep(step, catalog, report);
   const std::map<int, PoseHdr> spectralon =
       plan.spectralon ? MergeStep(spectralon_step, catalog, report) : std::map<int, PoseHdr>();
-  const auto start = Clock::now();
+  const auto start = SteadyClock::now();
   std::vector<SessionView> views;
   for (const auto& [pose, p] : sample) {
     const sim::SimView pose_view =
@@ -121,7 +117,7 @@ std::vector<SessionView> ViewsOf(const Plan& plan, const std::string& step,
     view.light_intensity = geometry.light_intensity;
     views.push_back(std::move(view));
   }
-  report->correspondence_s += Since(start);
+  report->correspondence_s += SecondsSince(start);
   return views;
 }
 
@@ -168,7 +164,7 @@ ProcessReport ProcessSession(const Plan& plan, SessionCatalog& catalog,
       ViewsOf(plan, "sample", "spectralon", reference, geometry, catalog, &report);
   if (views.empty()) throw UserError(dir, "no sample frames to process");
 
-  auto start = Clock::now();
+  auto start = SteadyClock::now();
   CorrespondenceSource source(std::move(views), report.pixel_size_mm);
   const MappedBasis mapped = MappedBasis::Open(plan.basis_file);
   ReconstructionOptions options;
@@ -182,13 +178,13 @@ ProcessReport ProcessSession(const Plan& plan, SessionCatalog& catalog,
   info.basis_crc32 = mapped.Checksum();
   info.camera_model = dir + "/calibration/camera.cameramodel";
   report.reconstruction = Reconstruct(mapped.View(), source, options, info, dir + "/svbrdf.exr");
-  report.reconstruction_s = Since(start);
+  report.reconstruction_s = SecondsSince(start);
   catalog.MarkStepDone("reconstruction");
 
   if (plan.validation.empty()) return report;
   std::vector<SessionView> checks =
       ViewsOf(plan, "validation", "spectralon_validation", reference, geometry, catalog, &report);
-  start = Clock::now();
+  start = SteadyClock::now();
   const SvbrdfMap map = ReadSvbrdfMap(dir + "/svbrdf.exr");
   for (std::size_t i = 0; i < checks.size(); ++i) {
     const std::string name = checks[i].name;
@@ -199,7 +195,7 @@ ProcessReport ProcessSession(const Plan& plan, SessionCatalog& catalog,
     WriteComparison(r, dir + "/" + s.render);
     report.validation.push_back(s);
   }
-  report.validation_s = Since(start);
+  report.validation_s = SecondsSince(start);
   return report;
 }
 
