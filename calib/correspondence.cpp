@@ -47,7 +47,8 @@ FloatPlanes ComputeCorrespondence(const ReferenceView& ref, const CalibratedView
   std::vector<Eigen::Vector3d> p_in_cam(n);
   for (std::size_t i = 0; i < n; ++i) p_in_cam[i] = view.cam_from_sample * p[i];
   const std::vector<Eigen::Vector2d> q = view.camera.Project(p_in_cam);
-  const Eigen::Vector3d camera_in_sample = view.cam_from_sample.Inverse().t;
+  const Eigen::Vector3d camera_in_sample =
+      view.eye_in_sample_mm ? *view.eye_in_sample_mm : view.cam_from_sample.Inverse().t;
   const int W = view.camera.width(), H = view.camera.height();
   // The planes, looked up once rather than per pixel and channel.
   auto plane = [&out](const char* name) { return out.planes[name].data(); };

@@ -10,6 +10,7 @@
 //   wo.x/y/z        unit direction to the camera, sample frame
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -24,6 +25,11 @@ struct CalibratedView {
   CameraModel camera;  // intrinsics (usually shared by all views)
   Pose cam_from_sample;
   Eigen::Vector3d light_in_sample_mm = Eigen::Vector3d(0, 0, 1000);  // the point light
+  // Where the view directions (wo) point from, when known better than cam_from_sample's centre.
+  // A long lens sees a flat board almost orthographically: its image pins down where the
+  // sample lands in the view, but trades the camera's sideways position against its rotation,
+  // so the centre it gives can be off by a degree as seen from the sample (docs/calibration.md).
+  std::optional<Eigen::Vector3d> eye_in_sample_mm;
 };
 
 struct ReferenceView {

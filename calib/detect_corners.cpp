@@ -95,9 +95,12 @@ BoardObservation Opencv(const cv::Mat& grey, const BoardSpec& board) {
 
 BoardObservation DetectCorners(const cv::Mat& image, const BoardSpec& board, Detector detector) {
   const cv::Mat grey = To8Bit(image);
-  const bool use_mrgingham = detector == Detector::kMrgingham ||
-                             (detector == Detector::kAuto && board.width_n == board.height_n);
-  return use_mrgingham ? Mrgingham(grey, board) : Opencv(grey, board);
+  if (detector == Detector::kOpencv || board.width_n != board.height_n) return Opencv(grey, board);
+  BoardObservation found = Mrgingham(grey, board);
+  // auto: mrgingham misses boards of few pixels per square (under ~20, a long lens over a
+  // small sample) that OpenCV's detector finds.
+  if (!found.found() && detector == Detector::kAuto) return Opencv(grey, board);
+  return found;
 }
 
 std::vector<BoardObservation> DetectCornersInFiles(const std::vector<std::string>& images,

@@ -13,7 +13,8 @@
 namespace acq::calib {
 
 enum class Detector { kAuto, kMrgingham, kOpencv };
-// "auto" (mrgingham for square boards, else OpenCV), "mrgingham", "opencv".
+// "auto" (mrgingham for square boards, OpenCV for others and where mrgingham finds no board),
+// "mrgingham", "opencv".
 Detector ParseDetector(const std::string& name, const BoardSpec& board);
 
 // Corners of `board` in an 8- or 16-bit grey image; an empty observation when not found.

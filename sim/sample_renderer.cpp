@@ -33,7 +33,9 @@ std::array<double, 3> Brdf(const RenderScene& scene, const Eigen::Vector2d& poin
       const double s = scene.board.spacing_mm;
       const double w = (scene.board.width_n + 1) * s, h = (scene.board.height_n + 1) * s;
       const double u = point.x() + w / 2, v = point.y() + h / 2;
-      if (u < 0 || v < 0 || u >= w || v >= h) break;
+      // The printed squares inside a white margin one square wide (detectors need it).
+      if (u < -s || v < -s || u >= w + s || v >= h + s) break;
+      if (u < 0 || v < 0 || u >= w || v >= h) return lambert(scene.board_white);
       const int i = int(u / s), j = int(v / s);
       return lambert((i + j) % 2 ? scene.board_white : scene.board_black);
     }
@@ -73,10 +75,16 @@ RadianceImage RenderRadiance(const RenderScene& scene, const calib::CameraModel&
                              int ray_grid_step_px) {
   if (ray_grid_step_px < 1) throw UserError("renderer", "the ray grid step must be >= 1 pixel");
   const int w = camera.width(), h = camera.height(), step = ray_grid_step_px;
-  const calib::Pose sample_from_cam = cam_from_sample.Inverse();
-  const Eigen::Matrix3d R = sample_from_cam.R();
-  const Eigen::Vector3d eye = sample_from_cam.t;
-  // Rays (in the sample frame) on a coarse grid: mrcal's unprojection is iterative, and the
+  // A chessboard is rendered in its own frame, where it is the z = 0 plane like a sample.
+  const bool board = scene.kind == RenderScene::Kind::kChessboard;
+  const calib::Pose plane_from_cam =
+      board ? scene.sample_from_chessboard.Inverse().Compose(cam_from_sample.Inverse())
+            : cam_from_sample.Inverse();
+  PointLight plane_light = light;
+  if (board) plane_light.position_mm = scene.sample_from_chessboard.Inverse() * light.position_mm;
+  const Eigen::Matrix3d R = plane_from_cam.R();
+  const Eigen::Vector3d eye = plane_from_cam.t;
+  // Rays (in the plane's frame) on a coarse grid: mrcal's unprojection is iterative, and the
   // rays vary smoothly across the imager, so bilinear interpolation between grid rays is exact
   // to far below a pixel for any lens a sample is shot through.
   const int gw = (w - 1) / step + 2, gh = (h - 1) / step + 2;
@@ -101,7 +109,7 @@ RadianceImage RenderRadiance(const RenderScene& scene, const calib::CameraModel&
       if (ray.z() >= 0) continue;  // never meets the plane below the camera
       const double t = -eye.z() / ray.z();
       const Eigen::Vector3d p = eye + t * ray;
-      const std::array<double, 3> L = RadianceAt(scene, p.head<2>(), eye, light);
+      const std::array<double, 3> L = RadianceAt(scene, p.head<2>(), eye, plane_light);
       float* o = &out.rgb[3 * (std::size_t(y) * std::size_t(w) + std::size_t(x))];
       for (int c = 0; c < 3; ++c) o[c] = float(L[c]);
     }

@@ -28,8 +28,14 @@ struct RenderScene {
   SyntheticSvbrdf card;         // kCard: material labels over the sample
   std::vector<GroundTruth> materials;
   std::vector<std::string> material_names;  // for the ground truth written beside a session
-  calib::BoardSpec board{10, 10,
-                         10};  // kChessboard: centred at the origin, x and y along the sample's
+  // kChessboard: its corner grid centred at the origin of its own frame, x and y along the
+  // frame's, z its normal towards the camera (the sample frame a board lying flat defines),
+  // printed inside a white margin one square wide.
+  calib::BoardSpec board{10, 10, 10};
+  // Where the chessboard's frame is: identity lies it flat on the sample plane (the extrinsics
+  // captures); a tilted pose is a board held up for the intrinsics captures. The dark cloth
+  // (background) is then the board's own backing plane.
+  calib::Pose sample_from_chessboard;
   double board_black = 0.04, board_white = 0.85;  // Lambertian albedos of its squares
   double spectralon_albedo = 0.99;                // kSpectralon: Lambertian
   double background_albedo = 0.02;                // the dark cloth around the sample (Lambertian)

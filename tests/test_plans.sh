@@ -33,7 +33,8 @@ expect() {  # name, wanted exit code, plan, extra args..., then -- and the expec
 }
 
 expect "good plan: dry run" 0 good.yaml --dry-run -- \
-  "visiting order (collision-checked" "directions.tsv:8" "estimated time" "total (before processing"
+  "visiting order (collision-checked" "directions.tsv:8" "intrinsics              20 poses" \
+  "board                   20 poses" "estimated capture time"
 expect "wrong type" 1 bad_type.yaml --dry-run -- \
   "bad_type.yaml:10:42:" "gantry.axes.settle_s must be a number, not 'fast'"
 expect "unknown key" 1 unknown_key.yaml --dry-run -- \
@@ -60,6 +61,10 @@ expect "backend not there" 1 absent_devices.yaml -- \
   "gantry USB 1209:acd0" "lsusb"
 expect "sim without materials" 1 no_sim_materials.yaml --dry-run -- \
   "no_sim_materials.yaml:" "the sim backend needs sim.materials"
+expect "unknown lens model" 1 bad_lensmodel.yaml --dry-run -- \
+  "bad_lensmodel.yaml:18:14:" "unknown or unconfigured lens model 'LENSMODEL_OPENCV6'"
+expect "intrinsics given twice" 1 both_intrinsics.yaml --dry-run -- \
+  "both_intrinsics.yaml:18:17:" "exclude each other"
 expect "no plan" 1 no_such_plan.yaml --dry-run -- "no_such_plan.yaml" "cannot read the plan"
 
 echo "$passed passed, $failures failed"

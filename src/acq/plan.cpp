@@ -253,11 +253,33 @@ Plan LoadPlan(const std::string& path) {
     CheckReachable(plan.validation, plan.motion);
   }
 
-  const Section calibration = top.Child("calibration", {"intrinsics_captures", "board"});
-  plan.intrinsics_captures = calibration.Integer("intrinsics_captures", plan.intrinsics_captures);
-  if (plan.intrinsics_captures < 3)
-    throw UserError(calibration.Where("intrinsics_captures"),
-                    "calibration.intrinsics_captures must be at least 3", "20 to 40 is usual");
+  const Section calibration =
+      top.Child("calibration", {"intrinsics_captures", "camera_model", "lensmodel", "board"});
+  if (calibration.Has("camera_model")) {
+    // The lens calibrated before (intrinsics hold while the lens and focus stay as they were).
+    if (calibration.Has("intrinsics_captures"))
+      throw UserError(calibration.Where("camera_model"),
+                      "calibration.camera_model and calibration.intrinsics_captures exclude each "
+                      "other",
+                      "give the lens's .cameramodel, or the number of board captures to "
+                      "calibrate it in this session");
+    plan.intrinsics_file = Resolve(path, calibration.Text("camera_model"));
+    RequireFile(calibration, "camera_model", plan.intrinsics_file,
+                "give a .cameramodel written by acqd or `acq calibrate intrinsics`");
+    plan.intrinsics_captures = 0;
+  } else {
+    plan.intrinsics_captures = calibration.Integer("intrinsics_captures", plan.intrinsics_captures);
+    if (plan.intrinsics_captures < 3)
+      throw UserError(calibration.Where("intrinsics_captures"),
+                      "calibration.intrinsics_captures must be at least 3",
+                      "20 to 40 is usual; or give calibration.camera_model");
+  }
+  plan.lensmodel = calibration.Text("lensmodel", plan.lensmodel);
+  plan.lensmodel_where = calibration.Where("lensmodel");
+  if (plan.lensmodel.rfind("LENSMODEL_", 0) != 0)
+    throw UserError(plan.lensmodel_where,
+                    "calibration.lensmodel '" + plan.lensmodel + "' is not an mrcal lens model",
+                    "like LENSMODEL_OPENCV4 or LENSMODEL_OPENCV8 (docs/lens-model-choice.md)");
   const Section board = calibration.Child("board", {"size", "spacing_mm"});
   const std::vector<double> board_size = board.Numbers("size");
   if (!board_size.empty()) {
@@ -271,8 +293,14 @@ Plan LoadPlan(const std::string& path) {
   if (!(plan.board_spacing_mm > 0))
     throw UserError(board.Where("spacing_mm"), "calibration.board.spacing_mm must be positive");
   plan.spectralon = top.Flag("spectralon", true);
+  if (!plan.spectralon && plan.backend == Backend::kUsbAravis)
+    throw UserError(top.Where("spectralon"),
+                    "a real instrument needs the Spectralon captures: they measure the light "
+                    "for the reconstruction",
+                    "set spectralon: true");
 
-  const Section sim = top.Child("sim", {"materials", "seed", "light_intensity", "time_scale"});
+  const Section sim =
+      top.Child("sim", {"materials", "seed", "light_intensity", "time_scale", "operator"});
   if (plan.backend == Backend::kSim) {
     const YAML::Node materials = root["sim"] ? root["sim"]["materials"] : YAML::Node();
     if (!materials || !materials.IsSequence() || materials.size() == 0)
@@ -290,6 +318,7 @@ Plan LoadPlan(const std::string& path) {
   plan.sim_seed = std::uint64_t(sim.Integer("seed", 1));
   plan.sim_light_intensity = sim.Number("light_intensity", plan.sim_light_intensity);
   plan.sim_time_scale = sim.Number("time_scale", plan.sim_time_scale);
+  plan.sim_operator = sim.Flag("operator", plan.sim_operator);
   if (!(plan.sim_time_scale > 0) || !(plan.sim_light_intensity > 0))
     throw UserError(sim.Where("time_scale"),
                     "sim.time_scale and sim.light_intensity must be positive");

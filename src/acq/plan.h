@@ -42,7 +42,13 @@ struct Plan {
   std::string validation_file;
   std::vector<Direction> validation;
 
+  // Calibration (docs/calibration.md): the intrinsics from this many board captures, or from
+  // a lens calibrated before (intrinsics_file; then no intrinsics captures), with this mrcal
+  // lens model (its name is checked against mrcal by acqd, where `lensmodel_where` points).
   int intrinsics_captures = 30;
+  std::string intrinsics_file;
+  std::string lensmodel = "LENSMODEL_OPENCV4";
+  std::string lensmodel_where;
   int board_width_n = 10, board_height_n = 10;
   double board_spacing_mm = 20;
   bool spectralon = true;
@@ -54,6 +60,9 @@ struct Plan {
   std::uint64_t sim_seed = 1;
   double sim_light_intensity = 2e5;
   double sim_time_scale = 10;
+  // The simulated world waits for the operator's `acqctl confirm` at every placement, as the
+  // instrument does, instead of placing items itself (the prompt path in simulation).
+  bool sim_operator = false;
 
   std::string basis_file;
   int components = 20;

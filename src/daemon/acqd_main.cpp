@@ -5,11 +5,13 @@
 // visiting order and the estimated time. A run opens the control socket, the backend (for sim:
 // re-executed into the simulated instrument's environment), the gantry and the camera, verifies
 // the session catalog (resuming what a killed run left), homes, and runs the capture steps
-// (capture.h: sample, validation, Spectralon). For the simulated instrument it then processes
-// the session (process.h), scores the map against the card's ground truth and writes the report
-// (report.h). Not built yet, and said so at the end of a run: the intrinsics and board captures
-// and the processing for a real instrument.
+// (capture.h: the calibration boards, the sample, validation, Spectralon). It then processes the
+// session (process.h: calibration, HDR, correspondence, reconstruction, validation), for the
+// simulated instrument scores the map and the calibration against the ground truth, and writes
+// the report (report.h).
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
@@ -23,6 +25,7 @@
 #include "brdf/basis_file.h"
 #include "brdf/directions.h"
 #include "brdf/evaluation.h"
+#include "calib/camera_model.h"
 #include "core/angles.h"
 #include "core/error.h"
 #include "core/seconds_since.h"
@@ -81,13 +84,45 @@ void ScoreAgainstTruth(const Plan& plan, const SimWorld& world, SessionReport* r
   report->scored = true;
 }
 
+// The calibrated geometry against the simulated instrument's: points on a grid over the sample
+// projected through the calibrated camera and pose, and through the true ones at the arms the
+// gantry measured, at every board pose; and the camera centre the board alone would give.
+void ScoreCalibration(const Plan& plan, const SimWorld& world, SessionReport* report) {
+  const SessionCalibration& c = report->process.calibration;
+  std::vector<double> misalignment, eye_error_deg;
+  for (const BoardPoseResult& b : c.boards) {
+    if (!b.found) continue;
+    const calib::Pose truth =
+        sim::ViewFromArms(b.arms, plan.camera_distance_mm, plan.light_distance_mm, 1)
+            .cam_from_sample;
+    for (int i = 0; i <= 4; ++i)
+      for (int j = 0; j <= 4; ++j) {
+        const Eigen::Vector3d p((i / 4.0 - 0.5) * plan.sample_width_mm,
+                                (j / 4.0 - 0.5) * plan.sample_height_mm, 0);
+        const Eigen::Vector2d a = c.camera.Project(b.cam_from_sample * p);
+        const Eigen::Vector2d t = world.camera_model().Project(truth * p);
+        misalignment.push_back((a - t).norm());
+      }
+    // The camera's centre the board alone gives, as seen from the sample centre.
+    const Eigen::Vector3d eye = b.cam_from_sample.Inverse().t, true_eye = truth.Inverse().t;
+    eye_error_deg.push_back(
+        RadToDeg(std::acos(std::min(1.0, eye.normalized().dot(true_eye.normalized())))));
+  }
+  if (misalignment.empty()) return;
+  report->alignment_median_px = Median(misalignment);
+  report->alignment_max_px = *std::max_element(misalignment.begin(), misalignment.end());
+  report->board_eye_error_median_deg = Median(eye_error_deg);
+  report->board_eye_error_max_deg = *std::max_element(eye_error_deg.begin(), eye_error_deg.end());
+}
+
 void PrintDryRun(const Plan& plan) {
   std::printf("plan %s: backend %s, session directory %s\n", plan.path.c_str(),
               BackendName(plan.backend), plan.output.c_str());
   std::printf("sample %.0f x %.0f mm; %zu directions from %s; basis %s (k = %d)\n\n",
               plan.sample_width_mm, plan.sample_height_mm, plan.directions.size(),
               plan.directions_file.c_str(), plan.basis_file.c_str(), plan.components);
-  const VisitPlan visit = PlanShortest(plan.directions, plan.motion);
+  const SessionVisits visits = PlanVisits(plan);
+  const VisitPlan& visit = visits.sample;
   const VisitPlan naive = PlanInFileOrder(plan.directions, plan.motion);
   std::printf("visiting order (collision-checked, from home):\n");
   std::printf("%4s  %-36s %9s %9s %9s %9s %8s\n", "step", "direction", "light_th", "light_ph",
@@ -99,38 +134,36 @@ void PrintDryRun(const Plan& plan) {
                 RadToDeg(p.arms.light_phi), RadToDeg(p.arms.camera_theta),
                 RadToDeg(p.arms.camera_phi), p.move_s);
   }
-  const std::size_t poses = plan.directions.size();
+  // Per pose: the bracket's exposures and each frame's overhead; an automatic choice adds two
+  // probe frames (a 5-frame bracket of 2-stop steps from ~1 ms is about 0.35 s of exposure).
+  double bracket_s = 0;
+  for (double t : plan.bracket_us) bracket_s += t / 1e6;
   const std::size_t bracket = plan.auto_bracket ? 5 : plan.bracket_us.size();
-  double exposure_s = 0;
-  for (double t : plan.bracket_us) exposure_s += t / 1e6;
-  if (plan.auto_bracket) exposure_s = 0.35;  // 5 frames of 2-stop steps from ~1 ms, probes
-  const double sample_s = double(poses) * (exposure_s + double(bracket) * kFrameOverheadS);
-  const double board_s = double(poses) * (0.01 + kFrameOverheadS);  // one board frame a pose
-  const double spectralon_s = plan.spectralon ? sample_s : 0;
-  const double intrinsics_s = plan.intrinsics_captures * (0.01 + kFrameOverheadS);
-  std::printf("\nschedule:\n");
-  std::printf("  1. home the gantry\n");
-  std::printf("  2. intrinsics: %d board captures (operator places the board; `acqctl confirm`)\n",
-              plan.intrinsics_captures);
-  std::printf("  3. per pose: one board capture for cam_from_sample (board on the sample plane)\n");
-  std::printf("  4. per pose: the sample, %s bracket of %zu frames\n",
-              plan.auto_bracket ? "automatic" : "fixed", bracket);
-  if (!plan.validation.empty())
-    std::printf("     then %zu validation poses (%s), never used to reconstruct\n",
-                plan.validation.size(), plan.validation_file.c_str());
-  if (plan.spectralon) std::printf("  5. per pose: the Spectralon board, same bracket\n");
+  if (plan.auto_bracket) bracket_s = 0.35;
+  std::printf("\nschedule (an operator prompt before each new item; `acqctl confirm`):\n");
+  std::printf("  home the gantry\n");
+  double total_s = 0;
+  for (const CaptureStep& step : CaptureSteps(plan, visits)) {
+    const bool board = step.max_auto_frames > 0;
+    const std::size_t poses = step.visit->poses.size();
+    const std::size_t frames = board ? 1 : bracket;
+    const int probes = board || plan.auto_bracket ? 2 : 0;
+    const double frames_s =
+        double(poses) * ((board ? 0.03 : bracket_s) + double(frames + probes) * kFrameOverheadS);
+    std::printf(
+        "  %-22s %3zu poses x %zu frame%s, %-32s motion %6.1f s, frames %6.1f s\n",
+        step.step.c_str(), poses, frames, frames > 1 ? "s" : " ",
+        (step.item + (step.new_placement_per_pose ? " (placed anew each pose)" : "")).c_str(),
+        step.visit->total_s, frames_s);
+    total_s += step.visit->total_s + frames_s;
+  }
   std::printf(
-      "  6. processing: calibration, correspondence, HDR merge, reconstruction, renders, "
-      "report\n");
-  std::printf("\nestimated time (one pass over the poses per stage):\n");
-  const double motion_s = visit.total_s * (plan.spectralon ? 3 : 2);
-  std::printf("  motion and settling  %8.1f s  (%zu poses, %.1f s a pass; file order %.1f s)\n",
-              motion_s, poses, visit.total_s, naive.total_s);
-  std::printf("  sample frames        %8.1f s\n", sample_s);
-  std::printf("  Spectralon frames    %8.1f s\n", spectralon_s);
-  std::printf("  calibration frames   %8.1f s\n", board_s + intrinsics_s);
-  std::printf("  total (before processing, without operator time) %.1f s\n",
-              motion_s + sample_s + spectralon_s + board_s + intrinsics_s);
+      "  processing: HDR merge, calibration (intrinsics, cam_from_sample per pose), "
+      "correspondence, reconstruction, validation renders, report\n");
+  std::printf(
+      "\nestimated capture time, without the operator: %.1f s (the sample's %zu poses take "
+      "%.1f s of motion a pass in this order, %.1f s in file order)\n",
+      total_s, visit.poses.size(), visit.total_s, naive.total_s);
 }
 
 int Run(int argc, char** argv) {
@@ -156,6 +189,7 @@ int Run(int argc, char** argv) {
     return 1;
   }
   const Plan plan = LoadPlan(session);
+  calib::ParseLensModel(plan.lensmodel, plan.lensmodel_where);  // mrcal knows it, before motion
   if (dry_run) {
     PrintDryRun(plan);
     return 0;
@@ -211,13 +245,14 @@ int Run(int argc, char** argv) {
   while (gantry.Status().Moving()) std::this_thread::sleep_for(std::chrono::milliseconds(20));
   phase("planning the visiting order");
   auto planning_start = SteadyClock::now();
-  const VisitPlan visit = PlanShortest(plan.directions, plan.motion);
-  const VisitPlan validation_visit =
-      plan.validation.empty() ? VisitPlan() : PlanShortest(plan.validation, plan.motion);
+  const SessionVisits visits = PlanVisits(plan);
   report.planning_s = SecondsSince(planning_start);
-  const std::vector<CaptureStep> steps = CaptureSteps(plan, visit, validation_visit);
+  const std::vector<CaptureStep> steps = CaptureSteps(plan, visits);
   CaptureContext context{gantry, camera, catalog, control, status};
-  if (world) context.place = [&](const std::string& item) { world->Place(item); };
+  if (world) {
+    context.ask_operator = plan.sim_operator;
+    context.place = [&](const std::string& item) { world->Place(item); };
+  }
   for (const CaptureStep& step : steps) context.poses_total += int(step.visit->poses.size());
   for (const CaptureStep& step : steps) report.capture += Capture(plan, step, context);
   gantry.SetLight(false, 0);
@@ -229,22 +264,18 @@ int Run(int argc, char** argv) {
       "transfer %.1f s)\n",
       plan.output.c_str(), r.frames_taken, r.frames_skipped, r.motion_s, r.exposure_s,
       r.transfer_s);
-  if (!world) {
-    std::printf(
-        "not built yet: the calibration stages and the processing inside acqd for a real "
-        "instrument\n");
-    return 0;
+  // Without Spectralon captures the light's intensity must be known: the simulated world's
+  // (the plan refuses a real instrument without them).
+  phase("processing: HDR merge, calibration, correspondence, reconstruction, validation");
+  const double light = world ? world->LightIntensityInCounts(plan.camera.pixel_format) : 0;
+  report.process = ProcessSession(plan, catalog, {light});
+  if (world) {
+    phase("scoring against the simulated card's ground truth");
+    const auto scoring_start = SteadyClock::now();
+    ScoreAgainstTruth(plan, *world, &report);
+    ScoreCalibration(plan, *world, &report);
+    report.scoring_s = SecondsSince(scoring_start);
   }
-  // The simulated instrument's geometry is exact: process with it (process.h explains the
-  // departure until the board stage runs inside acqd).
-  phase("processing: HDR merge, correspondence, reconstruction, validation");
-  report.process = ProcessSession(
-      plan, catalog,
-      {world->camera_model(), world->LightIntensityInCounts(plan.camera.pixel_format)});
-  phase("scoring against the simulated card's ground truth");
-  const auto scoring_start = SteadyClock::now();
-  ScoreAgainstTruth(plan, *world, &report);
-  report.scoring_s = SecondsSince(scoring_start);
   report.wall_s = SecondsSince(session_start);
   WriteReport(report, plan.output);
   std::printf("\n%s\nreport: %s/report.txt and report.json\n", report.Text().c_str(),

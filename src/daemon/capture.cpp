@@ -9,6 +9,7 @@
 #include "acq/hdr.h"
 #include "core/angles.h"
 #include "core/error.h"
+#include "core/rusinkiewicz.h"
 #include "core/seconds_since.h"
 #include "hw/frame_file.h"
 
@@ -25,7 +26,9 @@ std::string Degrees(const ArmAngles& a) {
 // Stops the gantry and ends the session here, resumable.
 [[noreturn]] void Abort(CaptureContext& c) {
   c.gantry.Stop();
-  const std::string where = c.status.state == "paused" ? "while paused at " : "at ";
+  const std::string where = c.status.state == "paused"    ? "while paused at "
+                            : c.status.state == "waiting" ? "while waiting for the operator after "
+                                                          : "at ";
   c.status.state = "aborted";
   c.control.Publish(c.status);
   throw UserError("acqd", "aborted by the operator " + where + c.status.step,
@@ -56,24 +59,30 @@ void SafePoint(CaptureContext& c) {
   }
 }
 
-const char* Instructions(const std::string& item) {
-  if (item == "spectralon")
+std::string Instructions(const std::string& item, int intrinsics_captures) {
+  if (item == kSpectralonItem)
     return "place the Spectralon board flat on the sample plane, centred where the sample was";
+  if (item == kBoardItem)
+    return "lay the chessboard flat on the sample plane, centred, its x axis towards gantry "
+           "azimuth 0 (it defines the sample frame)";
+  const std::string held = std::string(kBoardItem) + "/";
+  if (item.rfind(held, 0) == 0)
+    return "hold or prop the chessboard in pose " + item.substr(held.size()) + " of " +
+           std::to_string(intrinsics_captures) +
+           " under the camera: all of it in view, tilted 20 to 40 degrees, a different part of "
+           "the image and a different tilt each time";
   return "place the sample flat on the sample plane, centred under the reference view";
 }
 
-// Makes sure `item` lies under the gantry: the simulated world places it; an operator is asked
-// and confirms with `acqctl confirm` (the gantry holds still meanwhile: at the end of a step the
-// arms are over the sample, out of the operator's way at their last pose).
-double Place(CaptureContext& c, const std::string& item) {
+// Makes sure `item` lies under the gantry: an operator is asked and confirms with `acqctl
+// confirm` (the gantry holds still meanwhile), or the simulated world places it.
+double Place(CaptureContext& c, const std::string& item, int intrinsics_captures) {
   if (c.placed == item) return 0;
   const auto start = SteadyClock::now();
-  if (c.place) {
-    c.place(item);
-  } else {
+  if (c.ask_operator) {
     const std::string was = c.status.state;
     c.status.state = "waiting";
-    c.status.prompt = std::string(Instructions(item)) + ", then run `acqctl confirm`";
+    c.status.prompt = Instructions(item, intrinsics_captures) + ", then run `acqctl confirm`";
     c.control.Publish(c.status);
     std::printf("operator: %s\n", c.status.prompt.c_str());
     std::fflush(stdout);
@@ -81,6 +90,7 @@ double Place(CaptureContext& c, const std::string& item) {
     c.status.prompt.clear();
     c.status.state = was;
   }
+  if (c.place) c.place(item);
   c.placed = item;
   c.catalog.Event("info", item + " placed");
   return SecondsSince(start);
@@ -90,10 +100,10 @@ std::string BracketKey(const std::string& step, int pose) {
   return "bracket/" + step + "/" + std::to_string(pose);
 }
 
-std::vector<double> RecordedBracket(const Plan& plan, const std::string& step, int pose,
+std::vector<double> RecordedBracket(const Plan& plan, const CaptureStep& step, int pose,
                                     const SessionCatalog& catalog) {
-  if (!plan.auto_bracket) return plan.bracket_us;
-  std::istringstream in(catalog.Decision(BracketKey(step, pose)));
+  if (!plan.auto_bracket && step.max_auto_frames == 0) return plan.bracket_us;
+  std::istringstream in(catalog.Decision(BracketKey(step.step, pose)));
   std::vector<double> exposures;
   for (double t; in >> t;) exposures.push_back(t);
   return exposures;
@@ -101,16 +111,17 @@ std::vector<double> RecordedBracket(const Plan& plan, const std::string& step, i
 
 // The automatic bracket chosen at the pose the gantry holds, recorded so that a resumed run
 // takes the same exposures; returned as the catalog gives it back (what a resumed run reads).
-std::vector<double> ChooseAndRecordBracket(const Plan& plan, const std::string& step, int pose,
+std::vector<double> ChooseAndRecordBracket(const Plan& plan, const CaptureStep& step, int pose,
                                            CaptureContext& c, CaptureReport* report) {
   const auto start = SteadyClock::now();
-  const std::vector<double> exposures =
-      ChooseBracket(c.camera, plan.camera, HdrOptions{}, AutoBracketOptions{});
+  AutoBracketOptions options;
+  if (step.max_auto_frames > 0) options.max_frames = step.max_auto_frames;
+  const std::vector<double> exposures = ChooseBracket(c.camera, plan.camera, HdrOptions{}, options);
   report->bracket_probe_s += SecondsSince(start);
   std::ostringstream out;
   out.precision(17);
   for (double t : exposures) out << t << ' ';
-  c.catalog.RecordDecision(BracketKey(step, pose), out.str());
+  c.catalog.RecordDecision(BracketKey(step.step, pose), out.str());
   return RecordedBracket(plan, step, pose, c.catalog);
 }
 
@@ -127,16 +138,48 @@ CaptureReport& CaptureReport::operator+=(const CaptureReport& o) {
   return *this;
 }
 
-std::vector<CaptureStep> CaptureSteps(const Plan& plan, const VisitPlan& sample,
-                                      const VisitPlan& validation) {
+std::vector<Direction> IntrinsicsDirection() {
+  const Eigen::Vector3d light = SphericalDirection(DegToRad(30), 0), camera(0, 0, 1);
+  RusinkiewiczAngles angles = RusinkiewiczFromDirections(light, camera);
+  angles.phi_h = 0;  // free (Direction's convention): the planner chooses the azimuth
+  return {{angles, "the intrinsics pose (camera straight above the sample, light 30 deg from it)"}};
+}
+
+SessionVisits PlanVisits(const Plan& plan) {
+  SessionVisits v;
+  v.sample = PlanShortest(plan.directions, plan.motion);
+  if (!plan.validation.empty()) v.validation = PlanShortest(plan.validation, plan.motion);
+  if (plan.intrinsics_captures > 0) {
+    // The one pose, held for every capture (the moves after the first are empty).
+    const VisitPlan once = PlanShortest(v.intrinsics_direction, plan.motion);
+    v.intrinsics = once;
+    for (int i = 1; i < plan.intrinsics_captures; ++i) {
+      v.intrinsics.poses.push_back(once.poses.front());
+      v.intrinsics.poses.back().move_s = 0;
+    }
+  }
+  return v;
+}
+
+std::vector<CaptureStep> CaptureSteps(const Plan& plan, const SessionVisits& visits) {
   std::vector<CaptureStep> steps;
   const bool validate = !plan.validation.empty();
-  steps.push_back({"sample", "sample", &sample, &plan.directions});
-  if (validate) steps.push_back({"validation", "sample", &validation, &plan.validation});
+  // A board needs one frame, its white squares just short of saturation: exposed for at the
+  // pose whatever the plan's bracket (a grazing light leaves it too dark for a fixed one).
+  if (plan.intrinsics_captures > 0)
+    steps.push_back(
+        {"intrinsics", kBoardItem, &visits.intrinsics, &visits.intrinsics_direction, true, 1});
+  steps.push_back({"board", kBoardItem, &visits.sample, &plan.directions, false, 1});
+  if (validate)
+    steps.push_back(
+        {"board_validation", kBoardItem, &visits.validation, &plan.validation, false, 1});
+  steps.push_back({"sample", kSampleItem, &visits.sample, &plan.directions});
+  if (validate) steps.push_back({"validation", kSampleItem, &visits.validation, &plan.validation});
   if (plan.spectralon) {
-    steps.push_back({"spectralon", "spectralon", &sample, &plan.directions});
+    steps.push_back({"spectralon", kSpectralonItem, &visits.sample, &plan.directions});
     if (validate)
-      steps.push_back({"spectralon_validation", "spectralon", &validation, &plan.validation});
+      steps.push_back(
+          {"spectralon_validation", kSpectralonItem, &visits.validation, &plan.validation});
   }
   return steps;
 }
@@ -155,7 +198,7 @@ CaptureReport Capture(const Plan& plan, const CaptureStep& step, CaptureContext&
         step.step + " pose " + std::to_string(i + 1) + " of " + std::to_string(poses.size());
     status.progress = c.poses_total > 0 ? double(c.poses_done) / c.poses_total : 0;
     // Empty for an automatic bracket not chosen yet: the pose is not done.
-    std::vector<double> bracket = RecordedBracket(plan, step.step, int(i), c.catalog);
+    std::vector<double> bracket = RecordedBracket(plan, step, int(i), c.catalog);
     bool done = !bracket.empty();
     for (double t : bracket) done = done && c.catalog.HasFrame(step.step, int(i), t);
     if (done) {
@@ -167,7 +210,7 @@ CaptureReport Capture(const Plan& plan, const CaptureStep& step, CaptureContext&
     if (c.poses_taken > 0)
       status.eta_s = SecondsSince(c.started) / c.poses_taken * (c.poses_total - c.poses_done);
     ++c.poses_taken;
-    report.operator_s += Place(c, step.item);
+    report.operator_s += Place(c, step.ItemAt(i), plan.intrinsics_captures);
     status.step = where + ": moving";
     SafePoint(c);
     const auto move_start = SteadyClock::now();
@@ -179,7 +222,7 @@ CaptureReport Capture(const Plan& plan, const CaptureStep& step, CaptureContext&
     for (int a = 0; a < 4; ++a) status.arms_deg[a] = RadToDeg(arms[a]);
     status.step = where + ": choosing the exposures";
     SafePoint(c);
-    if (bracket.empty()) bracket = ChooseAndRecordBracket(plan, step.step, int(i), c, &report);
+    if (bracket.empty()) bracket = ChooseAndRecordBracket(plan, step, int(i), c, &report);
     for (std::size_t e = 0; e < bracket.size(); ++e) {
       const double t = bracket[e];
       if (c.catalog.HasFrame(step.step, int(i), t)) {

@@ -4,12 +4,16 @@
 // missing. Between frames (the safe points) the status is published and operator commands are
 // taken: pause waits for resume, abort stops the gantry and leaves the session resumable.
 //
-// Steps: "sample" (the sample at the plan's directions), "validation" (the sample at the
-// validation directions, never used to reconstruct), "spectralon" and "spectralon_validation"
-// (the Spectralon board at the same poses: the light's irradiance per view). Before a step
-// whose item (sample, spectralon) is not the one under the gantry, the item is placed: by the
-// operator (a prompt on the control socket, answered with `acqctl confirm`) or, in simulation,
-// by the simulated world.
+// Steps, in capture order: "intrinsics" (the chessboard held in a new pose for every capture,
+// the camera straight above the sample: the lens's intrinsics), "board" and "board_validation"
+// (the chessboard flat on the sample plane at every pose of the sample's and the validation's
+// visits: each view's cam_from_sample, and the board defines the sample frame), "sample" (the
+// sample at the plan's directions), "validation" (the sample at the validation directions,
+// never used to reconstruct), "spectralon" and "spectralon_validation" (the Spectralon board at
+// the same poses: the light's irradiance per view). Before a capture whose item (a held board
+// pose, the board, the sample, the Spectralon) is not the one under the gantry, the item is
+// placed: by the operator (a prompt on the control socket, answered with `acqctl confirm`) or,
+// in simulation, by the simulated world.
 #pragma once
 
 #include <functional>
@@ -34,17 +38,40 @@ struct CaptureReport {
   CaptureReport& operator+=(const CaptureReport& o);
 };
 
+// The items the operator places (and the simulated world knows).
+inline constexpr const char* kSampleItem = "sample";
+inline constexpr const char* kSpectralonItem = "spectralon";
+inline constexpr const char* kBoardItem = "board";  // held: "board/K", the K-th pose (1-based)
+
 struct CaptureStep {
   std::string step;  // the catalog's step name
-  std::string item;  // what must lie under the gantry: "sample" or "spectralon"
+  std::string item;  // what must lie under the gantry
   const VisitPlan* visit = nullptr;
   const std::vector<Direction>* directions = nullptr;  // visit's poses index these
+  bool new_placement_per_pose = false;  // the item is placed anew for every pose ("board/K")
+  // > 0: exposures chosen at each pose (and recorded), at most this many, whatever the plan's
+  // bracket; 0: the plan's bracket, fixed or automatic.
+  int max_auto_frames = 0;
+  std::string ItemAt(std::size_t pose) const {
+    return new_placement_per_pose ? item + "/" + std::to_string(pose + 1) : item;
+  }
 };
 
-// The steps of a plan in capture order (the sample's, then the Spectralon's, so the operator
-// changes the item once).
-std::vector<CaptureStep> CaptureSteps(const Plan& plan, const VisitPlan& sample,
-                                      const VisitPlan& validation);
+// Where the intrinsics captures are taken: the camera straight above the sample, the light 30
+// degrees from it (lighting a held board from the front).
+std::vector<Direction> IntrinsicsDirection();
+
+// The visits a session's capture steps take, planned once.
+struct SessionVisits {
+  VisitPlan intrinsics;  // the intrinsics pose, once per capture
+  VisitPlan sample, validation;
+  std::vector<Direction> intrinsics_direction = IntrinsicsDirection();
+};
+SessionVisits PlanVisits(const Plan& plan);
+
+// The steps of a plan in capture order (the calibration boards', then the sample's, then the
+// Spectralon's, so the operator changes the item as few times as can be).
+std::vector<CaptureStep> CaptureSteps(const Plan& plan, const SessionVisits& visits);
 
 struct CaptureContext {
   Gantry& gantry;
@@ -52,7 +79,9 @@ struct CaptureContext {
   SessionCatalog& catalog;
   ControlServer& control;
   SessionStatus& status;
-  // Places an item under the gantry without an operator (the simulated world); empty: ask.
+  // Ask the operator to place each item (prompt, `acqctl confirm`); then `place`, where given,
+  // follows the confirmation (the simulated world). Without asking, `place` places it.
+  bool ask_operator = true;
   std::function<void(const std::string& item)> place;
   std::string placed;  // the item known to be under the gantry ("" after a restart)
   int poses_done = 0, poses_total = 0;  // for the progress over the whole session

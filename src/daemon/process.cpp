@@ -1,6 +1,8 @@
 #include "daemon/process.h"
 
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <map>
@@ -15,65 +17,14 @@
 #include "core/angles.h"
 #include "core/error.h"
 #include "core/seconds_since.h"
+#include "daemon/pose_hdr.h"
 #include "hw/frame_file.h"
 #include "io/float_planes_exr.h"
-#include "sim/sim_gige_camera.h"
 
 namespace acq {
 namespace {
 
 namespace fs = std::filesystem;
-
-ArmAngles ParseArms(const std::string& degrees, const std::string& where) {
-  std::istringstream in(degrees);
-  double a[4];
-  for (double& v : a)
-    if (!(in >> v)) throw UserError(where, "no arm angles recorded with the frame");
-  return {DegToRad(a[0]), DegToRad(a[1]), DegToRad(a[2]), DegToRad(a[3])};
-}
-
-std::string PoseName(const std::string& step, int pose) {
-  char name[64];
-  std::snprintf(name, sizeof name, "%s_%03d", step.c_str(), pose);
-  return name;
-}
-
-// One pose of a step: its merged HDR image and where the gantry measured the arms.
-struct PoseHdr {
-  HdrImage hdr;
-  ArmAngles arms;
-  std::string direction;
-};
-
-// Merges every pose of `step` and writes hdr/<step>_NNN.exr.
-std::map<int, PoseHdr> MergeStep(const std::string& step, SessionCatalog& catalog,
-                                 ProcessReport* report) {
-  const auto start = SteadyClock::now();
-  const std::string dir = catalog.directory();
-  std::map<int, std::vector<CatalogFrame>> by_pose;
-  for (const CatalogFrame& f : catalog.Frames())
-    if (f.step == step) by_pose[f.pose].push_back(f);
-  std::map<int, PoseHdr> merged;
-  for (const auto& [pose, frames] : by_pose) {
-    std::vector<Frame> bracket;
-    std::map<std::string, std::string> attributes;
-    for (const CatalogFrame& f : frames)
-      bracket.push_back(ReadFrameExr(dir + "/" + f.path, &attributes));
-    PoseHdr& p = merged[pose];
-    p.hdr = MergeBracket(bracket, {});
-    p.arms = ParseArms(attributes["arms_measured_deg"], frames.front().path);
-    p.direction = attributes["direction"];
-    FloatPlanes file;
-    file.width = p.hdr.width;
-    file.height = p.hdr.height;
-    file.planes["radiance"] = p.hdr.radiance;
-    file.planes["flag"].assign(p.hdr.flag.begin(), p.hdr.flag.end());
-    file.attributes["unit"] = "counts per microsecond at 0 dB";
-    WriteFloatPlanesExr(dir + "/hdr/" + PoseName(step, pose) + ".exr", file);
-  }
-  report->hdr_s += SecondsSince(start);
-  return merged;
-}
 
 // A mono camera: one image for R, G and B.
 std::array<ViewImage, 3> Channels(const HdrImage& hdr) {
@@ -84,22 +35,32 @@ std::array<ViewImage, 3> Channels(const HdrImage& hdr) {
 }
 
 // The views of `step` (with the Spectralon captures of `spectralon_step` where there are any):
-// each pose's correspondence map, from the camera pose the kinematics give (process.h).
+// each pose's correspondence map, from the camera pose its board capture gave.
 std::vector<SessionView> ViewsOf(const Plan& plan, const std::string& step,
                                  const std::string& spectralon_step,
                                  const calib::ReferenceView& reference,
                                  const SessionGeometry& geometry, SessionCatalog& catalog,
                                  ProcessReport* report) {
-  const std::map<int, PoseHdr> sample = MergeStep(step, catalog, report);
+  const SessionCalibration& calibration = report->calibration;
+  const std::map<int, PoseHdr> sample = MergeStep(step, catalog, &report->hdr_s);
   const std::map<int, PoseHdr> spectralon =
-      plan.spectralon ? MergeStep(spectralon_step, catalog, report) : std::map<int, PoseHdr>();
+      plan.spectralon ? MergeStep(spectralon_step, catalog, &report->hdr_s)
+                      : std::map<int, PoseHdr>();
   const auto start = SteadyClock::now();
   std::vector<SessionView> views;
   for (const auto& [pose, p] : sample) {
-    const sim::SimView pose_view =
-        sim::ViewFromArms(p.arms, plan.camera_distance_mm, plan.light_distance_mm, 1);
-    const calib::CalibratedView calibrated{geometry.camera, pose_view.cam_from_sample,
-                                           pose_view.light.position_mm};
+    const BoardPoseResult* board = calibration.PoseOf(step, pose);
+    if (!board) {
+      report->views_left_out.push_back(PoseName(step, pose));
+      continue;
+    }
+    const Eigen::Vector3d light =
+        calib::ArmPositionInSample(p.arms.light_theta, p.arms.light_phi, plan.light_distance_mm);
+    // Where pixels land: the board's pose; where the camera is: its arm (the view directions).
+    const calib::CalibratedView calibrated{
+        calibration.camera, board->cam_from_sample, light,
+        calib::ArmPositionInSample(p.arms.camera_theta, p.arms.camera_phi,
+                                   plan.camera_distance_mm)};
     SessionView view;
     view.name = p.direction.empty() ? PoseName(step, pose) : p.direction;
     view.correspondence = calib::ComputeCorrespondence(reference, calibrated);
@@ -113,7 +74,7 @@ std::vector<SessionView> ViewsOf(const Plan& plan, const std::string& step,
                         "run acqd again with the same plan to capture what is missing");
       view.spectralon = Channels(s->second.hdr);
     }
-    view.light_in_sample_mm = pose_view.light.position_mm;
+    view.light_in_sample_mm = light;
     view.light_intensity = geometry.light_intensity;
     views.push_back(std::move(view));
   }
@@ -144,18 +105,30 @@ ProcessReport ProcessSession(const Plan& plan, SessionCatalog& catalog,
   const std::string dir = catalog.directory();
   for (const char* sub : {"hdr", "correspondence", "calibration", "renders"})
     fs::create_directories(fs::path(dir) / sub);
-  geometry.camera.Write(dir + "/calibration/camera.cameramodel");
+  auto start = SteadyClock::now();
+  double calibration_hdr_s = 0;
+  report.calibration = CalibrateSession(plan, catalog, &calibration_hdr_s);
+  report.hdr_s += calibration_hdr_s;
+  report.calibration_s = SecondsSince(start) - calibration_hdr_s;
+  const calib::CameraModel& camera = report.calibration.camera;
 
-  // The reference view: the camera straight above the sample centre, cropped to the sample.
+  // The reference view, the pixel grid the maps are on: the calibrated camera straight above
+  // the sample centre (in the frame the board defined), cropped to the sample.
   calib::ReferenceView reference;
-  reference.camera = geometry.camera;
+  reference.camera = camera;
   reference.cam_from_sample = calib::CamFromSampleLookingAtCentre({0, 0, plan.camera_distance_mm});
-  report.pixel_size_mm = plan.camera_distance_mm / geometry.camera.intrinsics()[0];
-  const int w = geometry.camera.width(), h = geometry.camera.height();
+  report.pixel_size_mm = plan.camera_distance_mm / camera.intrinsics()[0];
+  const int w = camera.width(), h = camera.height();
   reference.width = std::min(w, int(plan.sample_width_mm / report.pixel_size_mm));
   reference.height = std::min(h, int(plan.sample_height_mm / report.pixel_size_mm));
-  reference.x0 = (w - reference.width) / 2;
-  reference.y0 = (h - reference.height) / 2;
+  // Centred on the sample's centre as the calibrated camera sees it: its principal point is
+  // not the image centre, and pixels off the sample would be reconstructions of the cloth.
+  const Eigen::Vector2d centre =
+      camera.Project(reference.cam_from_sample * Eigen::Vector3d::Zero());
+  reference.x0 = std::clamp(int(std::lround(centre.x() - reference.width / 2.0 + 0.5)), 0,
+                            w - reference.width);
+  reference.y0 = std::clamp(int(std::lround(centre.y() - reference.height / 2.0 + 0.5)), 0,
+                            h - reference.height);
   report.reference_width = reference.width;
   report.reference_height = reference.height;
   report.sample_points = calib::SamplePoints(reference);
@@ -164,7 +137,7 @@ ProcessReport ProcessSession(const Plan& plan, SessionCatalog& catalog,
       ViewsOf(plan, "sample", "spectralon", reference, geometry, catalog, &report);
   if (views.empty()) throw UserError(dir, "no sample frames to process");
 
-  auto start = SteadyClock::now();
+  start = SteadyClock::now();
   CorrespondenceSource source(std::move(views), report.pixel_size_mm);
   const MappedBasis mapped = MappedBasis::Open(plan.basis_file);
   ReconstructionOptions options;

@@ -34,8 +34,8 @@ std::string Share(double part, double whole) {
 double SessionReport::OverheadS() const {
   const ProcessReport& p = process;
   return wall_s - capture.motion_s - capture.exposure_s - capture.transfer_s -
-         capture.bracket_probe_s - capture.operator_s - p.hdr_s - p.correspondence_s -
-         p.reconstruction_s - p.validation_s - scoring_s;
+         capture.bracket_probe_s - capture.operator_s - p.hdr_s - p.calibration_s -
+         p.correspondence_s - p.reconstruction_s - p.validation_s - scoring_s;
 }
 
 std::string SessionReport::Json() const {
@@ -49,7 +49,7 @@ std::string SessionReport::Json() const {
     << ", \"transfer\": " << capture.transfer_s
     << ", \"bracket_probes\": " << capture.bracket_probe_s
     << ", \"operator\": " << capture.operator_s << ", \"hdr_merge\": " << p.hdr_s
-    << ", \"correspondence\": " << p.correspondence_s
+    << ", \"calibration\": " << p.calibration_s << ", \"correspondence\": " << p.correspondence_s
     << ", \"reconstruction\": " << p.reconstruction_s << ", \"validation\": " << p.validation_s
     << ", \"scoring\": " << scoring_s << ", \"planning\": " << planning_s
     << ", \"daemon_overhead\": " << OverheadS()
@@ -60,7 +60,20 @@ std::string SessionReport::Json() const {
     << ", \"pixels\": " << r.pixels << ", \"valid\": " << r.valid
     << ", \"no_observation\": " << r.no_observation
     << ", \"too_few_observations\": " << r.too_few_observations
-    << ", \"poorly_conditioned\": " << r.poorly_conditioned << "},\n  \"validation\": [";
+    << ", \"poorly_conditioned\": " << r.poorly_conditioned << "},\n  \"calibration\": {";
+  const SessionCalibration& c = p.calibration;
+  int found = 0;
+  for (const BoardPoseResult& b : c.boards) found += b.found;
+  j << "\"camera\": " << Quoted("calibration/camera.cameramodel")
+    << ", \"lensmodel\": " << Quoted(c.camera.lensmodel_name())
+    << ", \"intrinsics_from\": " << Quoted(c.intrinsics_from)
+    << ", \"intrinsics_rms_px\": " << c.intrinsics_rms_px
+    << ", \"uncertainty_centre_px\": " << c.uncertainty_centre_px
+    << ", \"uncertainty_worst_px\": " << c.uncertainty_worst_px
+    << ", \"board_poses\": " << c.boards.size() << ", \"board_poses_found\": " << found
+    << ", \"views_left_out\": " << p.views_left_out.size() << ", \"warnings\": [";
+  for (std::size_t i = 0; i < c.warnings.size(); ++i) j << (i ? ", " : "") << Quoted(c.warnings[i]);
+  j << "]},\n  \"validation\": [";
   for (std::size_t i = 0; i < p.validation.size(); ++i) {
     const ValidationSummary& v = p.validation[i];
     j << (i ? ",\n    " : "\n    ") << "{\"direction\": " << Quoted(v.name)
@@ -74,6 +87,10 @@ std::string SessionReport::Json() const {
       << ", \"median_log_rmse_valid\": " << score.median_log_rmse_valid
       << ", \"pixels\": " << score.pixels << ", \"valid\": " << score.valid
       << ", \"homogeneous_median_log_rmse\": " << homogeneous_median_log_rmse
+      << ", \"alignment_median_px\": " << alignment_median_px
+      << ", \"alignment_max_px\": " << alignment_max_px
+      << ", \"board_eye_error_median_deg\": " << board_eye_error_median_deg
+      << ", \"board_eye_error_max_deg\": " << board_eye_error_max_deg
       << ", \"material_median_log_rmse\": [" << Joined(score.material_median_log_rmse)
       << "], \"material_homogeneous_log_rmse\": [" << Joined(homogeneous_log_rmse) << "]}";
   j << "\n}\n";
@@ -94,6 +111,7 @@ std::string SessionReport::Text() const {
       {"choosing brackets (probes)", capture.bracket_probe_s},
       {"waiting for the operator", capture.operator_s},
       {"HDR merge", p.hdr_s},
+      {"calibration (detect, solve)", p.calibration_s},
       {"correspondence", p.correspondence_s},
       {"reconstruction", p.reconstruction_s},
       {"validation renders", p.validation_s},
@@ -114,6 +132,16 @@ std::string SessionReport::Text() const {
                 r.pixels ? 100.0 * double(r.valid) / double(r.pixels) : 0.0, r.no_observation,
                 r.too_few_observations, r.poorly_conditioned);
   t << line;
+  const SessionCalibration& c = p.calibration;
+  int found = 0;
+  for (const BoardPoseResult& b : c.boards) found += b.found;
+  std::snprintf(line, sizeof line,
+                "calibration: %s from %s, residual %.3f px, projection uncertainty %.3f px at the "
+                "centre, %.3f px worst; board found at %d of %zu poses\n",
+                c.camera.lensmodel_name().c_str(), c.intrinsics_from.c_str(), c.intrinsics_rms_px,
+                c.uncertainty_centre_px, c.uncertainty_worst_px, found, c.boards.size());
+  t << line;
+  for (const std::string& w : c.warnings) t << "  WARNING: " << w << "\n";
   for (const ValidationSummary& v : p.validation) {
     std::snprintf(line, sizeof line,
                   "validation %s: relative RMS error %.3f, median per pixel %.3f over %ld pixels "
@@ -126,6 +154,13 @@ std::string SessionReport::Text() const {
                   "against the ground truth: median per-pixel log-space RMSE %.4f (valid pixels "
                   "%.4f); homogeneous result for the same materials and directions %.4f\n",
                   score.median_log_rmse, score.median_log_rmse_valid, homogeneous_median_log_rmse);
+    t << line;
+    std::snprintf(line, sizeof line,
+                  "calibrated geometry against the true one: misalignment median %.3f px, worst "
+                  "%.3f px; the camera centre from the board alone off by %.2f deg median, %.2f "
+                  "deg worst\n",
+                  alignment_median_px, alignment_max_px, board_eye_error_median_deg,
+                  board_eye_error_max_deg);
     t << line;
     for (std::size_t m = 0; m < score.material_median_log_rmse.size(); ++m) {
       std::snprintf(

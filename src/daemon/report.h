@@ -30,6 +30,12 @@ struct SessionReport {
   double homogeneous_median_log_rmse = 0;
   std::vector<std::string> materials;        // names, in label order
   std::vector<double> homogeneous_log_rmse;  // per material (mean over its channels)
+  // The calibrated geometry against the true one, as misalignment in the views: points over
+  // the sample projected through both, every board pose (median and worst, pixels).
+  double alignment_median_px = 0, alignment_max_px = 0;
+  // The camera centre each board pose gives, against the true one, as seen from the sample
+  // (degrees): why the view directions come from the camera's arm (process.h).
+  double board_eye_error_median_deg = 0, board_eye_error_max_deg = 0;
 
   double OverheadS() const;
   std::string Json() const;

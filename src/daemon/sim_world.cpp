@@ -3,10 +3,12 @@
 #include <unistd.h>
 
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 
 #include "acq/map_score.h"
+#include "calib/extrinsics.h"
 #include "calib/synthetic_board.h"
 #include "core/error.h"
 
@@ -61,6 +63,8 @@ SimWorld::SimWorld(const Plan& plan) {
   // small frames keep a simulated session quick; the lens model comes from calibration for real.
   const double f = 0.8 * 320 * plan.camera_distance_mm / plan.sample_width_mm;
   model_ = calib::CameraModel("LENSMODEL_PINHOLE", {f, f, 159.5, 159.5}, 320, 320);
+  scene_.board = calib::BoardSpec{plan.board_width_n, plan.board_height_n, plan.board_spacing_mm};
+  PlaceHeldBoards(plan);
   sim::FirmwareOptions firmware;
   firmware.axis = plan.motion.theta;
   firmware.settle_s = plan.motion.settle_s;
@@ -89,16 +93,55 @@ SimWorld::SimWorld(const Plan& plan) {
       camera);
 }
 
+// The operator's board poses for the intrinsics: spread over the view of the camera straight
+// above the sample (where the sequencer holds it for these captures), tilted up to 35 degrees
+// towards any side, within 5% of the arm's distance.
+void SimWorld::PlaceHeldBoards(const Plan& plan) {
+  if (plan.intrinsics_captures == 0) return;
+  calib::BoardPoseSampling sampling;
+  sampling.min_distance_mm = 0.95 * plan.camera_distance_mm;
+  sampling.max_distance_mm = 1.05 * plan.camera_distance_mm;
+  sampling.max_tilt_deg = 35;
+  sampling.seed = plan.sim_seed;
+  const std::vector<calib::Pose> cam_from_board =
+      calib::SampleBoardPoses(model_, scene_.board, plan.intrinsics_captures, sampling);
+  if (int(cam_from_board.size()) < plan.intrinsics_captures) {
+    const double view_mm = model_.width() / model_.intrinsics()[0] * plan.camera_distance_mm;
+    char why[160];
+    std::snprintf(why, sizeof why,
+                  "the board (%d x %d corners, %.1f mm squares) does not fit the simulated "
+                  "camera's view, %.0f mm across",
+                  scene_.board.width_n, scene_.board.height_n, scene_.board.spacing_mm, view_mm);
+    throw UserError(plan.path, why, "give calibration.board a smaller spacing_mm or size");
+  }
+  const calib::Pose sample_from_cam =
+      calib::CamFromSampleLookingAtCentre({0, 0, plan.camera_distance_mm}).Inverse();
+  // mrcal's board frame to the chessboard's (the sample frame a flat board defines).
+  const calib::Pose board_from_chessboard = calib::SampleFromBoard(scene_.board).Inverse();
+  for (const calib::Pose& p : cam_from_board)
+    held_boards_.push_back(sample_from_cam.Compose(p).Compose(board_from_chessboard));
+}
+
 double SimWorld::LightIntensityInCounts(PixelFormat format) const {
   return light_intensity_ * sensor_.CountsPerRadianceUs(MaxValue(format));
 }
 
 void SimWorld::Place(const std::string& item) {
   sim::RenderScene scene = scene_;
-  if (item == "spectralon")
+  const std::string held = std::string(kBoardItem) + "/";
+  if (item == "spectralon") {
     scene.kind = sim::RenderScene::Kind::kSpectralon;
-  else if (item != "sample")
+  } else if (item == kBoardItem) {
+    scene.kind = sim::RenderScene::Kind::kChessboard;  // flat on the sample plane
+  } else if (item.rfind(held, 0) == 0) {
+    const std::size_t k = std::stoul(item.substr(held.size()));
+    if (k < 1 || k > held_boards_.size())
+      throw UserError("simulated world", "no board pose " + item.substr(held.size()));
+    scene.kind = sim::RenderScene::Kind::kChessboard;
+    scene.sample_from_chessboard = held_boards_[k - 1];
+  } else if (item != "sample") {
     throw UserError("simulated world", "cannot place '" + item + "'");
+  }
   camera_->SetScene(std::move(scene));
 }
 

@@ -14,6 +14,7 @@
 
 #include "acq/plan.h"
 #include "brdf/neural_brdf.h"
+#include "daemon/capture.h"
 #include "sim/sim_gige_camera.h"
 #include "sim/usb_gantry_device.h"
 
@@ -35,7 +36,9 @@ class SimWorld {
   // The light's intensity in the HDR images' units (counts per us at 0 dB, x mm^2): what a
   // Spectralon capture measures on the instrument; here the simulated sensor's own scale.
   double LightIntensityInCounts(PixelFormat format) const;
-  // Puts `item` under the gantry in place of the operator: "sample" (the card) or "spectralon".
+  // Puts `item` under the gantry in place of the operator: "sample" (the card), "spectralon",
+  // "board" (the chessboard flat on the sample plane, defining the sample frame) or "board/K"
+  // (the K-th held board pose of the intrinsics captures, 1-based).
   void Place(const std::string& item);
   // The true material under each sample-plane point (mm), an index into TruthTables(); -1 off
   // the card.
@@ -47,7 +50,10 @@ class SimWorld {
   void WriteGroundTruth(const std::string& dir) const;
 
  private:
+  void PlaceHeldBoards(const Plan& plan);
+
   UsbDeviceId usb_;
+  std::vector<calib::Pose> held_boards_;  // sample_from_chessboard per intrinsics capture
   std::vector<NeuralBrdf> networks_;
   sim::RenderScene scene_;
   calib::CameraModel model_;

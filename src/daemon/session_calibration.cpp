@@ -1,0 +1,203 @@
+#include "daemon/session_calibration.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+
+#include <opencv2/core.hpp>
+
+#include "calib/correspondence.h"
+#include "calib/detect_corners.h"
+#include "calib/extrinsics.h"
+#include "calib/intrinsics_report.h"
+#include "calib/intrinsics_solve.h"
+#include "calib/synthetic_board.h"
+#include "core/angles.h"
+#include "core/error.h"
+#include "core/seconds_since.h"
+#include "daemon/pose_hdr.h"
+
+namespace acq {
+namespace {
+
+// An HDR board image for the detector: linear, scaled so that the bright squares sit near 200
+// of 255 (the 99th percentile of the usable pixels), saturated pixels white.
+cv::Mat ToneMapped(const HdrImage& hdr) {
+  std::vector<float> usable;
+  for (std::size_t i = 0; i < hdr.radiance.size(); ++i)
+    if (hdr.flag[i] == kHdrOk) usable.push_back(hdr.radiance[i]);
+  float white = 1;
+  if (!usable.empty()) {
+    const std::size_t k = usable.size() * 99 / 100;
+    std::nth_element(usable.begin(), usable.begin() + long(k), usable.end());
+    white = std::max(usable[k], 1e-12f);
+  }
+  cv::Mat image(hdr.height, hdr.width, CV_8UC1);
+  for (int y = 0; y < hdr.height; ++y)
+    for (int x = 0; x < hdr.width; ++x) {
+      const std::size_t i = std::size_t(y) * hdr.width + x;
+      const double v = hdr.flag[i] == kHdrSaturated ? 255 : 200.0 * hdr.radiance[i] / white;
+      image.at<std::uint8_t>(y, x) = std::uint8_t(std::clamp(v, 0.0, 255.0));
+    }
+  return image;
+}
+
+calib::BoardSpec BoardOf(const Plan& plan) {
+  return {plan.board_width_n, plan.board_height_n, plan.board_spacing_mm};
+}
+
+// Detects the board in every pose of `step`, each observation named after its pose.
+std::vector<calib::BoardObservation> Detect(const std::map<int, PoseHdr>& poses,
+                                            const std::string& step,
+                                            const calib::BoardSpec& board) {
+  const calib::Detector detector = calib::ParseDetector("auto", board);
+  std::vector<calib::BoardObservation> out;
+  for (const auto& [pose, p] : poses) {
+    out.push_back(calib::DetectCorners(ToneMapped(p.hdr), board, detector));
+    out.back().image = PoseName(step, pose);
+  }
+  return out;
+}
+
+void Intrinsics(const Plan& plan, const std::map<int, PoseHdr>& held,
+                std::vector<calib::BoardObservation> obs, SessionCalibration* c) {
+  const std::string dir = std::filesystem::path(plan.output).string();
+  c->intrinsics_captures = int(held.size());
+  for (const calib::BoardObservation& o : obs) c->intrinsics_found += o.found();
+  if (held.empty())
+    throw UserError(plan.output, "no intrinsics captures in the session",
+                    "run acqd again with the same plan to capture them");
+  const HdrImage& any = held.begin()->second.hdr;
+  calib::IntrinsicsOptions options;
+  options.lensmodel = plan.lensmodel;
+  const calib::IntrinsicsSolution solution = [&] {
+    try {
+      return calib::SolveIntrinsics(any.width, any.height, BoardOf(plan), obs, options);
+    } catch (const UserError& e) {
+      throw UserError(plan.output + "/calibration",
+                      "cannot solve the intrinsics from the " + std::to_string(obs.size()) +
+                          " held boards (" + std::to_string(c->intrinsics_found) +
+                          " found): " + e.problem(),
+                      "delete the intrinsics frames from the session (frames/intrinsics_*) and run "
+                      "acqd again to recapture them with the whole board in view, or give "
+                      "calibration.camera_model");
+    }
+  }();
+  const calib::CalibrationReport report = calib::MakeReport(solution, obs, {});
+  std::FILE* text = std::fopen((dir + "/calibration/intrinsics.txt").c_str(), "w");
+  if (text) {
+    calib::PrintReport(text, solution, report);
+    std::fclose(text);
+  }
+  c->camera = solution.problem.camera();
+  c->intrinsics_from = std::to_string(c->intrinsics_found) + " of " +
+                       std::to_string(c->intrinsics_captures) + " held boards";
+  c->intrinsics_rms_px = solution.rms_per_coordinate;
+  c->uncertainty_centre_px = report.uncertainty_centre_px;
+  c->uncertainty_worst_px = report.uncertainty_centre_px;
+  for (double u : report.uncertainty_corner_px)
+    c->uncertainty_worst_px = std::max(c->uncertainty_worst_px, u);
+  c->warnings = report.warnings;
+}
+
+// The pose the arms' kinematics predict (the camera at its arm's end, looking at the centre).
+calib::Pose KinematicPose(const Plan& plan, const ArmAngles& arms) {
+  return calib::CamFromSampleLookingAtCentre(
+      calib::ArmPositionInSample(arms.camera_theta, arms.camera_phi, plan.camera_distance_mm));
+}
+
+void Extrinsics(const Plan& plan, const std::string& step, const std::map<int, PoseHdr>& poses,
+                const std::vector<calib::BoardObservation>& obs, SessionCalibration* c) {
+  std::size_t k = 0;
+  for (const auto& [pose, p] : poses) {
+    const calib::BoardObservation& o = obs[k++];
+    BoardPoseResult r;
+    r.step = step;
+    r.pose = pose;
+    r.arms = p.arms;
+    r.corners = o.DetectedCorners();
+    // Fewer than half the corners: too little of the board to trust the pose.
+    r.found = r.corners >= BoardOf(plan).Corners() / 2;
+    if (r.found) {
+      const calib::Pose expected = KinematicPose(plan, p.arms);
+      const calib::ExtrinsicsResult e =
+          calib::SolveCamFromSample(c->camera, BoardOf(plan), o, expected);
+      r.cam_from_sample = e.cam_from_sample;
+      r.rms_px = e.rms_px;
+      r.angle_from_kinematics_deg = e.angle_from_expected_deg;
+      r.shift_from_kinematics_mm = (e.cam_from_sample.Inverse().t - expected.Inverse().t).norm();
+    } else {
+      c->warnings.push_back(PoseName(step, pose) + ": board not found (" +
+                            std::to_string(r.corners) + " corners); its views are left out");
+    }
+    c->boards.push_back(r);
+  }
+}
+
+void WriteExtrinsics(const SessionCalibration& c, const std::string& path) {
+  std::FILE* f = std::fopen(path.c_str(), "w");
+  if (!f) throw UserError(path, "cannot write the extrinsics", "check the session directory");
+  std::fprintf(f,
+               "# cam_from_sample per pose (mrcal rt: Rodrigues r, translation t in mm), from "
+               "the board on the sample plane\n"
+               "step\tpose\tfound\tcorners\trms_px\tr0\tr1\tr2\tt0\tt1\tt2\t"
+               "angle_from_kinematics_deg\tshift_from_kinematics_mm\n");
+  for (const BoardPoseResult& b : c.boards) {
+    const calib::Pose& p = b.cam_from_sample;
+    std::fprintf(f, "%s\t%d\t%d\t%d\t%.4f\t%.9f\t%.9f\t%.9f\t%.6f\t%.6f\t%.6f\t%.4f\t%.3f\n",
+                 b.step.c_str(), b.pose, int(b.found), b.corners, b.rms_px, p.r.x(), p.r.y(),
+                 p.r.z(), p.t.x(), p.t.y(), p.t.z(), b.angle_from_kinematics_deg,
+                 b.shift_from_kinematics_mm);
+  }
+  std::fclose(f);
+}
+
+}  // namespace
+
+std::string SessionCalibration::BoardStepOf(const std::string& step) {
+  const bool validation = step.find("validation") != std::string::npos;
+  return validation ? "board_validation" : "board";
+}
+
+const BoardPoseResult* SessionCalibration::PoseOf(const std::string& step, int pose) const {
+  const std::string board = BoardStepOf(step);
+  for (const BoardPoseResult& b : boards)
+    if (b.step == board && b.pose == pose) return b.found ? &b : nullptr;
+  return nullptr;
+}
+
+SessionCalibration CalibrateSession(const Plan& plan, SessionCatalog& catalog,
+                                    double* hdr_seconds) {
+  const std::string dir = catalog.directory();
+  std::filesystem::create_directories(dir + "/calibration");
+  const calib::BoardSpec board = BoardOf(plan);
+  SessionCalibration c;
+  std::vector<calib::BoardObservation> all;
+  if (plan.intrinsics_captures > 0) {
+    const std::map<int, PoseHdr> held = MergeStep("intrinsics", catalog, hdr_seconds);
+    const auto start = SteadyClock::now();
+    const std::vector<calib::BoardObservation> obs = Detect(held, "intrinsics", board);
+    all.insert(all.end(), obs.begin(), obs.end());
+    Intrinsics(plan, held, obs, &c);
+    c.seconds += SecondsSince(start);
+  } else {
+    c.camera = calib::CameraModel::Read(plan.intrinsics_file);
+    c.intrinsics_from = plan.intrinsics_file;
+  }
+  c.camera.Write(dir + "/calibration/camera.cameramodel");
+  for (const std::string step : {"board", "board_validation"}) {
+    if (step == "board_validation" && plan.validation.empty()) continue;
+    const std::map<int, PoseHdr> poses = MergeStep(step, catalog, hdr_seconds);
+    const auto start = SteadyClock::now();
+    const std::vector<calib::BoardObservation> obs = Detect(poses, step, board);
+    all.insert(all.end(), obs.begin(), obs.end());
+    Extrinsics(plan, step, poses, obs, &c);
+    c.seconds += SecondsSince(start);
+  }
+  calib::WriteCornersCache(dir + "/calibration/corners.vnl", all);
+  WriteExtrinsics(c, dir + "/calibration/extrinsics.tsv");
+  return c;
+}
+
+}  // namespace acq

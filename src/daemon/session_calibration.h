@@ -1,0 +1,56 @@
+// A session's calibration from its own board captures (issue 8; DESIGN.md, "Data flow":
+// calibration comes before correspondence). The intrinsics from the held boards of the
+// "intrinsics" step, solved with mrcal as `acq calibrate intrinsics` does it (unless the plan
+// gives a calibrated lens); then each pose's cam_from_sample from the board lying on the sample
+// plane ("board", "board_validation": the same poses as "sample" and "validation"), intrinsics
+// locked, the board's symmetric corner orderings resolved with the pose the arms' kinematics
+// predict. The board defines the sample frame (calib/extrinsics.h).
+//
+// Written to calibration/: camera.cameramodel, intrinsics.txt (mrcal's residuals and projection
+// uncertainty), corners.vnl (mrcal's corners cache of every board image; images are the HDR
+// merges, tone-mapped to 8 bits for the detector), extrinsics.tsv (per pose).
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "acq/plan.h"
+#include "calib/camera_model.h"
+#include "core/gantry_geometry.h"
+#include "io/session_catalog.h"
+
+namespace acq {
+
+struct BoardPoseResult {
+  std::string step;  // "board" or "board_validation"
+  int pose = 0;
+  bool found = false;
+  int corners = 0;
+  double rms_px = 0;  // per coordinate
+  // The calibrated pose against the one the arms' kinematics predict: what calibration fixes.
+  double angle_from_kinematics_deg = 0, shift_from_kinematics_mm = 0;
+  calib::Pose cam_from_sample;
+  ArmAngles arms;  // measured when the board was captured
+};
+
+struct SessionCalibration {
+  calib::CameraModel camera;
+  std::string intrinsics_from;  // "N board captures" or the plan's camera_model file
+  int intrinsics_captures = 0, intrinsics_found = 0;
+  double intrinsics_rms_px = 0;
+  double uncertainty_centre_px = 0, uncertainty_worst_px = 0;  // mrcal's, at the board distance
+  std::vector<std::string> warnings;
+  std::vector<BoardPoseResult> boards;
+  double seconds = 0;  // detection and solves (the HDR merges are counted apart)
+
+  // The board step whose poses are those of `step` ("sample" -> "board", "validation" and
+  // "spectralon_validation" -> "board_validation", "spectralon" -> "board").
+  static std::string BoardStepOf(const std::string& step);
+  // The calibrated pose at `pose` of `step`; nullptr when its board was not found.
+  const BoardPoseResult* PoseOf(const std::string& step, int pose) const;
+};
+
+// Throws UserError (what to recapture) when the intrinsics cannot be solved.
+SessionCalibration CalibrateSession(const Plan& plan, SessionCatalog& catalog, double* hdr_seconds);
+
+}  // namespace acq
