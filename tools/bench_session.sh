@@ -27,7 +27,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 report = json.load(open(sys.argv[1]))
 t = report["time_s"]
-parts = ["motion", "exposure", "transfer", "bracket_probes", "operator", "hdr_merge",
+parts = ["motion", "exposure", "transfer", "bracket_probes", "operator", "hdr_merge", "calibration",
          "correspondence", "reconstruction", "validation", "scoring", "daemon_overhead"]
 values = [max(t[p], 0) for p in parts]
 fig, ax = plt.subplots(figsize=(8, 4))

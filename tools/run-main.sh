@@ -1,7 +1,6 @@
 #!/usr/bin/env bash
 # Set up, build and run the main job: the README's first command.
-# Until acqd runs a whole session (its processing stages are to come), the main job is the
-# offline chain on simulated data, then acqd's simulated capture:
+# The offline chain on simulated data, then a whole simulated session through acqd:
 #   1. the BRDF basis from 90 materials, the other 10 held out (every tenth by sorted name from
 #      the sixth), evaluated with the seed paper's 20 directions and 20 random ones;
 #   2. 20 directions optimised for this basis under the gantry's constraints, evaluated likewise
@@ -10,8 +9,9 @@
 #      field of view through the optimised directions, reconstructed pixel by pixel into an
 #      SVBRDF map and scored against its ground truth;
 #   4. renders of the map: quick looks, a view under a new arm pose, spheres of chosen pixels;
-#   5. acqd on examples/plan-sim.yaml: the simulated instrument captures the card, and acqd
-#      processes the capture into an SVBRDF map.
+#   5. acqd on examples/plan-sim.yaml: the simulated instrument captures the calibration
+#      boards and the card, and acqd calibrates, aligns and reconstructs it into an SVBRDF map;
+#   6. acqd replays that session (examples/plan-replay.yaml) through the same code.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 tools/setup.sh
@@ -54,8 +54,12 @@ $acq render export --map "$out/card_svbrdf.exr" --pixel 60,60 -o "$out/card_pixe
 echo
 echo "== 5. a simulated capture through acqd (gantry on emulated USB, camera on loopback GigE) =="
 rm -rf out/sessions/sim-card
-build/src/daemon/acqd --session examples/plan-sim.yaml --dry-run | tail -7
+build/src/daemon/acqd --session examples/plan-sim.yaml --dry-run | tail -14
 build/src/daemon/acqd --session examples/plan-sim.yaml --socket "out/acqd.sock"
+echo
+echo "== 6. the recorded session replayed through acqd =="
+rm -rf out/sessions/sim-card-replayed
+build/src/daemon/acqd --session examples/plan-replay.yaml --socket "out/acqd.sock" | tail -8
 echo
 echo "outputs in $out:"
 echo "  basis90.acqb               the basis (docs/basis-format.md)"
@@ -70,10 +74,12 @@ echo "  card_view.png              the card re-rendered under a new light and ca
 echo "  card_spheres.png           spheres with the BRDFs of four pixels"
 echo "  card_pixel_60_60.binary    one pixel's BRDF as a MERL .binary"
 echo "and in out/sessions/sim-card (the simulated capture and its processing by acqd):"
-echo "  frames/*.exr               every pose's HDR bracket (sample, validation, Spectralon)"
+echo "  frames/*.exr               every pose's frames (boards, sample, validation, Spectralon)"
 echo "  catalog.sqlite             the session catalog: frames with checksums, steps, events"
+echo "  calibration/               camera.cameramodel, intrinsics.txt, extrinsics.tsv, corners"
 echo "  hdr/, correspondence/      merged radiance per pose; reference-to-view maps"
 echo "  svbrdf.exr                 the reconstructed SVBRDF map (docs/svbrdf-map.md)"
 echo "  renders/validation_*.png   the map's render beside each validation capture it never saw"
 echo "  report.txt, report.json    where the time went, validity, validation errors, the score"
 echo "  ground_truth/              the simulated card's labels, names, camera model, error.exr"
+echo "and out/sessions/sim-card-replayed: the same session replayed (same frames, same map)"

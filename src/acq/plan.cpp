@@ -172,6 +172,11 @@ Plan LoadPlan(const std::string& path) {
     if (!fs::is_directory(plan.replay_session))
       throw UserError(top.Where("replay"), "no session directory " + plan.replay_session,
                       "give the directory of a recorded session");
+    std::error_code ec;
+    if (fs::exists(plan.output) && fs::equivalent(plan.output, plan.replay_session, ec))
+      throw UserError(top.Where("output"),
+                      "the replay would write into the session it replays (" + plan.output + ")",
+                      "give the replay its own output directory");
   }
 
   const Section sample = top.Child("sample", {"size_mm"});
@@ -293,7 +298,7 @@ Plan LoadPlan(const std::string& path) {
   if (!(plan.board_spacing_mm > 0))
     throw UserError(board.Where("spacing_mm"), "calibration.board.spacing_mm must be positive");
   plan.spectralon = top.Flag("spectralon", true);
-  if (!plan.spectralon && plan.backend == Backend::kUsbAravis)
+  if (!plan.spectralon && plan.backend != Backend::kSim)
     throw UserError(top.Where("spectralon"),
                     "a real instrument needs the Spectralon captures: they measure the light "
                     "for the reconstruction",

@@ -36,6 +36,8 @@
 #include "daemon/sim_world.h"
 #include "hw/aravis_camera.h"
 #include "hw/protocol_gantry.h"
+#include "hw/replay_camera.h"
+#include "hw/replay_gantry.h"
 #include "hw/usb_transport.h"
 #include "io/float_planes_exr.h"
 #include "io/session_catalog.h"
@@ -194,9 +196,6 @@ int Run(int argc, char** argv) {
     PrintDryRun(plan);
     return 0;
   }
-  if (plan.backend == Backend::kReplay)
-    throw UserError("acqd", "the replay backend's sequencer is not built yet (issue 8)",
-                    "replay frames offline through ReplayCamera");
   // The simulated instrument lives in this process, in its own network namespace, under
   // umockdev: re-execute into that environment first.
   if (plan.backend == Backend::kSim && !SimEnvironmentReady())
@@ -226,18 +225,41 @@ int Run(int argc, char** argv) {
     usb = world->usb_id();
     camera_options.id = world->camera_address();
   }
-  // Devices are opened before anything moves: an absent or wrong one ends here.
-  phase("opening the gantry (" + usb.Describe() + ")");
-  UsbTransport transport(usb);
-  ProtocolGantry gantry(transport);
-  phase("opening the camera (" + camera_options.id + ")");
-  AravisCamera camera(camera_options);
+  // Devices are opened before anything moves: an absent or wrong one ends here. Replay: the
+  // recorded session's frames and arm angles stand in for both.
+  std::unique_ptr<UsbTransport> transport;
+  std::unique_ptr<Gantry> gantry_device;
+  std::unique_ptr<Camera> camera_device;
+  ReplayCamera* replay = nullptr;
+  if (plan.backend == Backend::kReplay) {
+    phase("opening the recorded session " + plan.replay_session);
+    auto replay_camera = std::make_unique<ReplayCamera>(plan.replay_session);
+    replay = replay_camera.get();
+    gantry_device = std::make_unique<ReplayGantry>(replay_camera->files());
+    camera_device = std::move(replay_camera);
+  } else {
+    phase("opening the gantry (" + usb.Describe() + ")");
+    transport = std::make_unique<UsbTransport>(usb);
+    gantry_device = std::make_unique<ProtocolGantry>(*transport);
+    phase("opening the camera (" + camera_options.id + ")");
+    camera_device = std::make_unique<AravisCamera>(camera_options);
+  }
+  Gantry& gantry = *gantry_device;
+  Camera& camera = *camera_device;
   phase("verifying the session in " + plan.output);
   SessionCatalog catalog(plan.output);
   const SessionCatalog::Repair repair = catalog.VerifyAndRepair();
   if (repair.verified > 0 || !repair.orphans.empty() || !repair.bad.empty())
     std::printf("resuming %s: %d frames verified, %zu damaged and %zu unrecorded files dropped\n",
                 plan.output.c_str(), repair.verified, repair.bad.size(), repair.orphans.size());
+  if (replay) {
+    // The recorded decisions (automatic exposures) are the replay's: no probe frames to serve.
+    const SessionCatalog recorded(plan.replay_session);
+    for (const auto& [key, value] : recorded.Decisions())
+      if (catalog.Decision(key).empty()) catalog.RecordDecision(key, value);
+    // A resumed replay has taken the first frames of the recording, in its order.
+    replay->Skip(std::size_t(repair.verified));
+  }
   if (world) world->WriteGroundTruth(plan.output + "/ground_truth");
   catalog.Event("info", "session started (" + std::string(BackendName(plan.backend)) + ")");
   phase("homing");
@@ -252,6 +274,10 @@ int Run(int argc, char** argv) {
   if (world) {
     context.ask_operator = plan.sim_operator;
     context.place = [&](const std::string& item) { world->Place(item); };
+  }
+  if (replay) {
+    context.ask_operator = false;  // the recorded frames hold whatever was placed
+    context.place = [](const std::string&) {};
   }
   for (const CaptureStep& step : steps) context.poses_total += int(step.visit->poses.size());
   for (const CaptureStep& step : steps) report.capture += Capture(plan, step, context);

@@ -16,13 +16,6 @@
 namespace acq {
 namespace {
 
-std::string Degrees(const ArmAngles& a) {
-  char s[96];
-  std::snprintf(s, sizeof s, "%.3f %.3f %.3f %.3f", RadToDeg(a.light_theta), RadToDeg(a.light_phi),
-                RadToDeg(a.camera_theta), RadToDeg(a.camera_phi));
-  return s;
-}
-
 // Stops the gantry and ends the session here, resumable.
 [[noreturn]] void Abort(CaptureContext& c) {
   c.gantry.Stop();
@@ -251,8 +244,8 @@ CaptureReport Capture(const Plan& plan, const CaptureStep& step, CaptureContext&
                     {{"step", step.step},
                      {"pose", std::to_string(i)},
                      {"direction", (*step.directions)[pose.index].where},
-                     {"arms_commanded_deg", Degrees(pose.arms)},
-                     {"arms_measured_deg", Degrees(arrived.measured)},
+                     {"arms_commanded_deg", ArmAnglesAttribute(pose.arms)},
+                     {"arms_measured_deg", ArmAnglesAttribute(arrived.measured)},
                      {"camera", c.camera.Describe()}});
       c.catalog.RecordFrame({step.step, int(i), t, name, "", 0});
       ++report.frames_taken;

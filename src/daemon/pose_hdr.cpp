@@ -1,27 +1,14 @@
 #include "daemon/pose_hdr.h"
 
 #include <cstdio>
-#include <sstream>
 #include <vector>
 
-#include "core/angles.h"
 #include "core/error.h"
 #include "core/seconds_since.h"
 #include "hw/frame_file.h"
 #include "io/float_planes_exr.h"
 
 namespace acq {
-namespace {
-
-ArmAngles ParseArms(const std::string& degrees, const std::string& where) {
-  std::istringstream in(degrees);
-  double a[4];
-  for (double& v : a)
-    if (!(in >> v)) throw UserError(where, "no arm angles recorded with the frame");
-  return {DegToRad(a[0]), DegToRad(a[1]), DegToRad(a[2]), DegToRad(a[3])};
-}
-
-}  // namespace
 
 std::string PoseName(const std::string& step, int pose) {
   char name[64];
@@ -44,7 +31,7 @@ std::map<int, PoseHdr> MergeStep(const std::string& step, SessionCatalog& catalo
       bracket.push_back(ReadFrameExr(dir + "/" + f.path, &attributes));
     PoseHdr& p = merged[pose];
     p.hdr = MergeBracket(bracket, {});
-    p.arms = ParseArms(attributes["arms_measured_deg"], frames.front().path);
+    p.arms = ParseArmAnglesAttribute(attributes["arms_measured_deg"], frames.front().path);
     p.direction = attributes["direction"];
     FloatPlanes file;
     file.width = p.hdr.width;

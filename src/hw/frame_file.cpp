@@ -1,7 +1,10 @@
 #include "hw/frame_file.h"
 
 #include <cmath>
+#include <cstdio>
+#include <sstream>
 
+#include "core/angles.h"
 #include "core/error.h"
 #include "io/float_planes_exr.h"
 
@@ -32,6 +35,21 @@ void WriteFrameExr(const std::string& path, const Frame& frame,
   image.attributes["frame_id"] = std::to_string(frame.frame_id);
   image.attributes["timestamp_ns"] = std::to_string(frame.timestamp_ns);
   WriteFloatPlanesExr(path, image);
+}
+
+std::string ArmAnglesAttribute(const ArmAngles& a) {
+  char s[96];
+  std::snprintf(s, sizeof s, "%.3f %.3f %.3f %.3f", RadToDeg(a.light_theta), RadToDeg(a.light_phi),
+                RadToDeg(a.camera_theta), RadToDeg(a.camera_phi));
+  return s;
+}
+
+ArmAngles ParseArmAnglesAttribute(const std::string& text, const std::string& where) {
+  std::istringstream in(text);
+  double a[4];
+  for (double& v : a)
+    if (!(in >> v)) throw UserError(where, "no arm angles recorded with the frame");
+  return {DegToRad(a[0]), DegToRad(a[1]), DegToRad(a[2]), DegToRad(a[3])};
 }
 
 Frame ReadFrameExr(const std::string& path, std::map<std::string, std::string>* attributes) {

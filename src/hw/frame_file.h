@@ -8,9 +8,16 @@
 #include <map>
 #include <string>
 
+#include "core/gantry_geometry.h"
 #include "hw/camera.h"
 
 namespace acq {
+
+// The arm angles recorded with a frame (attributes arms_commanded_deg, arms_measured_deg):
+// light theta, light phi, camera theta, camera phi in degrees, space-separated.
+std::string ArmAnglesAttribute(const ArmAngles& arms);
+// UserError naming `where` when `text` does not hold four angles.
+ArmAngles ParseArmAnglesAttribute(const std::string& text, const std::string& where);
 
 void WriteFrameExr(const std::string& path, const Frame& frame,
                    const std::map<std::string, std::string>& extra = {});

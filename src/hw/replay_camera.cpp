@@ -6,6 +6,7 @@
 
 #include "core/error.h"
 #include "hw/frame_file.h"
+#include "io/session_catalog.h"
 
 namespace acq {
 
@@ -13,14 +14,22 @@ ReplayCamera::ReplayCamera(const std::string& session) {
   namespace fs = std::filesystem;
   folder_ = fs::is_directory(fs::path(session) / "frames") ? (fs::path(session) / "frames").string()
                                                            : session;
-  std::error_code ec;
-  for (const auto& entry : fs::directory_iterator(folder_, ec))
-    if (entry.path().extension() == ".exr") files_.push_back(entry.path().string());
-  if (ec) throw UserError(session, "cannot be read: " + ec.message(), "give a session directory");
+  if (fs::is_regular_file(fs::path(session) / "catalog.sqlite")) {
+    // A session: its frames in the order they were taken (the catalog's), which is the order a
+    // sequencer running the same plan asks for them.
+    SessionCatalog catalog(session);
+    for (const CatalogFrame& f : catalog.Frames())
+      files_.push_back((fs::path(session) / f.path).string());
+  } else {
+    std::error_code ec;
+    for (const auto& entry : fs::directory_iterator(folder_, ec))
+      if (entry.path().extension() == ".exr") files_.push_back(entry.path().string());
+    if (ec) throw UserError(session, "cannot be read: " + ec.message(), "give a session directory");
+    std::sort(files_.begin(), files_.end());
+  }
   if (files_.empty())
     throw UserError(session, "has no frames to replay (no .exr in " + folder_ + ")",
                     "give the directory of a recorded session");
-  std::sort(files_.begin(), files_.end());
 }
 
 void ReplayCamera::Apply(const CameraSettings& settings) {

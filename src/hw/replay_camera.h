@@ -4,6 +4,7 @@
 // plan, another bracket) is refused at the first frame that differs, naming it.
 #pragma once
 
+#include <algorithm>
 #include <string>
 #include <vector>
 
@@ -13,8 +14,9 @@ namespace acq {
 
 class ReplayCamera : public Camera {
  public:
-  // `session` is a session directory (its frames/ folder is read) or a folder of frame files;
-  // files are served in name order. Throws UserError when there are none.
+  // `session` is a session directory (its frames served in the order its catalog recorded
+  // them) or a folder of frame files (served in name order). Throws UserError when there are
+  // none.
   explicit ReplayCamera(const std::string& session);
 
   void Apply(const CameraSettings& settings) override;
@@ -22,6 +24,9 @@ class ReplayCamera : public Camera {
   StreamStatistics Statistics() const override { return stats_; }
   std::string Describe() const override { return "replay of " + folder_; }
   std::size_t remaining() const { return files_.size() - next_; }
+  const std::vector<std::string>& files() const { return files_; }
+  // Serves from the n-th frame on (a resumed replay has the first n already).
+  void Skip(std::size_t n) { next_ = std::min(n, files_.size()); }
 
  private:
   std::string folder_;

@@ -47,7 +47,7 @@ void WriteFloatPlanesExr(const std::string& path, const FloatPlanes& image) {
   std::filesystem::rename(partial, path);
 }
 
-FloatPlanes ReadFloatPlanesExr(const std::string& path) {
+FloatPlanes ReadFloatPlanesExr(const std::string& path, bool read_pixels) {
   FloatPlanes out;
   try {
     Imf::InputFile file(path.c_str());
@@ -58,6 +58,7 @@ FloatPlanes ReadFloatPlanesExr(const std::string& path) {
     for (auto it = h.begin(); it != h.end(); ++it)
       if (const auto* s = dynamic_cast<const Imf::StringAttribute*>(&it.attribute()))
         out.attributes[it.name()] = s->value();
+    if (!read_pixels) return out;
     Imf::FrameBuffer fb;
     for (auto c = h.channels().begin(); c != h.channels().end(); ++c) {
       std::vector<float>& plane = out.planes[c.name()];

@@ -18,7 +18,8 @@ struct FloatPlanes {
 };
 
 void WriteFloatPlanesExr(const std::string& path, const FloatPlanes& image);
-// UserError naming the file if it cannot be read.
-FloatPlanes ReadFloatPlanesExr(const std::string& path);
+// UserError naming the file if it cannot be read. Without `read_pixels`, the size and the
+// attributes only (the planes are left empty): a frame's metadata without its pixels.
+FloatPlanes ReadFloatPlanesExr(const std::string& path, bool read_pixels = true);
 
 }  // namespace acq

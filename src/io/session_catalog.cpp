@@ -1,5 +1,7 @@
 #include "io/session_catalog.h"
 
+#include <map>
+
 #include <fcntl.h>
 #include <sqlite3.h>
 #include <unistd.h>
@@ -174,6 +176,13 @@ std::string SessionCatalog::Decision(const std::string& key) const {
   Statement s(db_, "SELECT value FROM decisions WHERE key = ?", path_);
   s.Bind(1, key);
   return s.Step() ? s.Text(0) : "";
+}
+
+std::map<std::string, std::string> SessionCatalog::Decisions() const {
+  Statement s(db_, "SELECT key, value FROM decisions", path_);
+  std::map<std::string, std::string> out;
+  while (s.Step()) out[s.Text(0)] = s.Text(1);
+  return out;
 }
 
 bool SessionCatalog::StepDone(const std::string& step) const {

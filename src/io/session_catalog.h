@@ -8,6 +8,7 @@
 #pragma once
 
 #include <cstdint>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -48,6 +49,7 @@ class SessionCatalog {
   // bracket chosen at a pose): recorded once (UserError on a second time), "" when not made.
   void RecordDecision(const std::string& key, const std::string& value);
   std::string Decision(const std::string& key) const;
+  std::map<std::string, std::string> Decisions() const;  // all, by key
 
   struct Repair {
     int verified = 0;
