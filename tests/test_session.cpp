@@ -441,4 +441,9 @@ TEST_CASE("session: operator prompts answered with acqctl confirm; abort at a pr
   for (const char* step : {"intrinsics", "board", "board_validation"})
     CHECK(catalog.StepDone(step));
   CHECK_FALSE(catalog.StepDone("sample"));
+  // The abort is in the session's record, as every failure is.
+  const auto events = catalog.Events();
+  REQUIRE_FALSE(events.empty());
+  CHECK(events.back().first == "error");
+  CHECK(events.back().second.find("aborted by the operator") != std::string::npos);
 }

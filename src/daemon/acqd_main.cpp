@@ -260,52 +260,64 @@ int Run(int argc, char** argv) {
     // A resumed replay has taken the first frames of the recording, in its order.
     replay->Skip(std::size_t(repair.verified));
   }
-  if (world) world->WriteGroundTruth(plan.output + "/ground_truth");
-  catalog.Event("info", "session started (" + std::string(BackendName(plan.backend)) + ")");
-  phase("homing");
-  gantry.Home();
-  while (gantry.Status().Moving()) std::this_thread::sleep_for(std::chrono::milliseconds(20));
-  phase("planning the visiting order");
-  auto planning_start = SteadyClock::now();
-  const SessionVisits visits = PlanVisits(plan);
-  report.planning_s = SecondsSince(planning_start);
-  const std::vector<CaptureStep> steps = CaptureSteps(plan, visits);
-  CaptureContext context{gantry, camera, catalog, control, status};
-  if (world) {
-    context.ask_operator = plan.sim_operator;
-    context.place = [&](const std::string& item) { world->Place(item); };
+  // From here on a failure is the session's: recorded in its catalog and shown by acqctl as the
+  // last error before acqd exits (the frames taken stay; running the plan again resumes).
+  try {
+    if (world) world->WriteGroundTruth(plan.output + "/ground_truth");
+    catalog.Event("info", "session started (" + std::string(BackendName(plan.backend)) + ")");
+    phase("homing");
+    gantry.Home();
+    while (gantry.Status().Moving()) std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    phase("planning the visiting order");
+    auto planning_start = SteadyClock::now();
+    const SessionVisits visits = PlanVisits(plan);
+    report.planning_s = SecondsSince(planning_start);
+    const std::vector<CaptureStep> steps = CaptureSteps(plan, visits);
+    CaptureContext context{gantry,  camera,
+                           catalog, control,
+                           status,  replay ? "replay of " + plan.replay_session : usb.Describe()};
+    if (world) {
+      context.ask_operator = plan.sim_operator;
+      context.place = [&](const std::string& item) { world->Place(item); };
+    }
+    if (replay) {
+      context.ask_operator = false;  // the recorded frames hold whatever was placed
+      context.place = [](const std::string&) {};
+    }
+    for (const CaptureStep& step : steps) context.poses_total += int(step.visit->poses.size());
+    for (const CaptureStep& step : steps) report.capture += Capture(plan, step, context);
+    gantry.SetLight(false, 0);
+    const CaptureReport& r = report.capture;
+    catalog.Event("info", "captured: " + std::to_string(r.frames_taken) + " frames taken, " +
+                              std::to_string(r.frames_skipped) + " already there");
+    std::printf(
+        "captured into %s: %d frames taken, %d already there (motion %.1f s, exposure %.1f s, "
+        "transfer %.1f s)\n",
+        plan.output.c_str(), r.frames_taken, r.frames_skipped, r.motion_s, r.exposure_s,
+        r.transfer_s);
+    // Without Spectralon captures the light's intensity must be known: the simulated world's
+    // (the plan refuses a real instrument without them).
+    phase("processing: HDR merge, calibration, correspondence, reconstruction, validation");
+    const double light = world ? world->LightIntensityInCounts(plan.camera.pixel_format) : 0;
+    report.process = ProcessSession(plan, catalog, {light});
+    if (world) {
+      phase("scoring against the simulated card's ground truth");
+      const auto scoring_start = SteadyClock::now();
+      ScoreAgainstTruth(plan, *world, &report);
+      ScoreCalibration(plan, *world, &report);
+      report.scoring_s = SecondsSince(scoring_start);
+    }
+    report.wall_s = SecondsSince(session_start);
+    WriteReport(report, plan.output);
+    std::printf("\n%s\nreport: %s/report.txt and report.json\n", report.Text().c_str(),
+                plan.output.c_str());
+  } catch (const std::exception& e) {
+    status.state = "failed";
+    status.last_error = e.what();
+    control.Publish(status);
+    catalog.Event("error", e.what());
+    throw;
   }
-  if (replay) {
-    context.ask_operator = false;  // the recorded frames hold whatever was placed
-    context.place = [](const std::string&) {};
-  }
-  for (const CaptureStep& step : steps) context.poses_total += int(step.visit->poses.size());
-  for (const CaptureStep& step : steps) report.capture += Capture(plan, step, context);
-  gantry.SetLight(false, 0);
-  const CaptureReport& r = report.capture;
-  catalog.Event("info", "captured: " + std::to_string(r.frames_taken) + " frames taken, " +
-                            std::to_string(r.frames_skipped) + " already there");
-  std::printf(
-      "captured into %s: %d frames taken, %d already there (motion %.1f s, exposure %.1f s, "
-      "transfer %.1f s)\n",
-      plan.output.c_str(), r.frames_taken, r.frames_skipped, r.motion_s, r.exposure_s,
-      r.transfer_s);
-  // Without Spectralon captures the light's intensity must be known: the simulated world's
-  // (the plan refuses a real instrument without them).
-  phase("processing: HDR merge, calibration, correspondence, reconstruction, validation");
-  const double light = world ? world->LightIntensityInCounts(plan.camera.pixel_format) : 0;
-  report.process = ProcessSession(plan, catalog, {light});
-  if (world) {
-    phase("scoring against the simulated card's ground truth");
-    const auto scoring_start = SteadyClock::now();
-    ScoreAgainstTruth(plan, *world, &report);
-    ScoreCalibration(plan, *world, &report);
-    report.scoring_s = SecondsSince(scoring_start);
-  }
-  report.wall_s = SecondsSince(session_start);
-  WriteReport(report, plan.output);
-  std::printf("\n%s\nreport: %s/report.txt and report.json\n", report.Text().c_str(),
-              plan.output.c_str());
   status.state = "done";
   status.progress = 1;
   phase("done");
@@ -319,6 +331,9 @@ int main(int argc, char** argv) {
   try {
     return acq::Run(argc, argv);
   } catch (const acq::UserError& e) {
+    std::fprintf(stderr, "error: %s\n", e.what());
+    return 1;
+  } catch (const std::exception& e) {  // a library's: still a message, never a crash
     std::fprintf(stderr, "error: %s\n", e.what());
     return 1;
   }

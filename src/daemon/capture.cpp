@@ -89,6 +89,18 @@ double Place(CaptureContext& c, const std::string& item, int intrinsics_captures
   return SecondsSince(start);
 }
 
+// The camera's stream statistics so far, as recorded with each frame.
+std::string StreamAttribute(const StreamStatistics& s) {
+  char text[200];
+  std::snprintf(text, sizeof text,
+                "completed %llu incomplete %llu missing_packets %llu resent_packets %llu "
+                "retakes %llu reopens %llu",
+                (unsigned long long)s.completed, (unsigned long long)s.incomplete,
+                (unsigned long long)s.missing_packets, (unsigned long long)s.resent_packets,
+                (unsigned long long)s.retakes, (unsigned long long)s.reopens);
+  return text;
+}
+
 std::string BracketKey(const std::string& step, int pose) {
   return "bracket/" + step + "/" + std::to_string(pose);
 }
@@ -240,16 +252,19 @@ CaptureReport Capture(const Plan& plan, const CaptureStep& step, CaptureContext&
       report.transfer_s += grab_s - exposing_s;
       char name[96];
       std::snprintf(name, sizeof name, "frames/%s_%03zu_%.0fus.exr", step.step.c_str(), i, t);
+      const StreamStatistics stats = c.camera.Statistics();
       WriteFrameExr((fs::path(c.catalog.directory()) / name).string(), frame,
                     {{"step", step.step},
                      {"pose", std::to_string(i)},
                      {"direction", (*step.directions)[pose.index].where},
                      {"arms_commanded_deg", ArmAnglesAttribute(pose.arms)},
                      {"arms_measured_deg", ArmAnglesAttribute(arrived.measured)},
-                     {"camera", c.camera.Describe()}});
+                     {"camera", c.camera.Describe()},
+                     {"gantry", c.gantry_id},
+                     {"stream", StreamAttribute(stats)},
+                     {"grab_s", std::to_string(grab_s)}});
       c.catalog.RecordFrame({step.step, int(i), t, name, "", 0});
       ++report.frames_taken;
-      const StreamStatistics stats = c.camera.Statistics();
       ++status.frames;
       status.incomplete_frames = long(stats.incomplete);
     }

@@ -79,6 +79,7 @@ struct CaptureContext {
   SessionCatalog& catalog;
   ControlServer& control;
   SessionStatus& status;
+  std::string gantry_id;  // recorded with every frame
   // Ask the operator to place each item (prompt, `acqctl confirm`); then `place`, where given,
   // follows the confirmation (the simulated world). Without asking, `place` places it.
   bool ask_operator = true;

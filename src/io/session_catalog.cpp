@@ -198,6 +198,13 @@ void SessionCatalog::Event(const std::string& level, const std::string& message)
       .Step();
 }
 
+std::vector<std::pair<std::string, std::string>> SessionCatalog::Events() const {
+  Statement s(db_, "SELECT level, message FROM events ORDER BY rowid", path_);
+  std::vector<std::pair<std::string, std::string>> out;
+  while (s.Step()) out.emplace_back(s.Text(0), s.Text(1));
+  return out;
+}
+
 SessionCatalog::Repair SessionCatalog::VerifyAndRepair() {
   Repair r;
   std::set<std::string> named;

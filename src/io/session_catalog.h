@@ -45,6 +45,7 @@ class SessionCatalog {
   void MarkStepDone(const std::string& step);
   bool StepDone(const std::string& step) const;
   void Event(const std::string& level, const std::string& message);
+  std::vector<std::pair<std::string, std::string>> Events() const;  // (level, message), in order
   // Choices made while capturing that a resumed run must repeat, not make again (the automatic
   // bracket chosen at a pose): recorded once (UserError on a second time), "" when not made.
   void RecordDecision(const std::string& key, const std::string& value);
