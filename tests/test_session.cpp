@@ -359,35 +359,41 @@ TEST_CASE("session: a whole simulated session, scored; kill -9 and resume give t
                             << "relative difference of a frame's mean " << worst);
   CHECK(worst < 0.01);
 
-  // Both sessions processed their frames into a map of the same pixels, and scored it. Which
+  // Both sessions processed their frames into a map of the sample, and scored it. Which
   // observations a pixel keeps depends on the noise only for values at the noise floor or
   // saturation, so the pixels' observations and validity agree closely; the maps' errors against
   // the truth and the validation errors differ by the sensor's noise only (each camera start
   // re-seeds it), measured at under 1% between runs: 3% and 0.01 bound it.
-  const SvbrdfMap a = ReadSvbrdfMap(base + "/whole/session/svbrdf.exr");
-  const SvbrdfMap b = ReadSvbrdfMap(base + "/resumed/session/svbrdf.exr");
-  REQUIRE(a.info.width == b.info.width);
-  REQUIRE(a.info.height == b.info.height);
-  long valid_a = 0, valid_b = 0;
-  double observations_a = 0, observations_b = 0;
-  for (int y = 0; y < a.info.height; ++y)
-    for (int x = 0; x < a.info.width; ++x) {
-      valid_a += a.Plane("valid", x, y) > 0.5f;
-      valid_b += b.Plane("valid", x, y) > 0.5f;
-      observations_a += a.Plane("observations", x, y);
-      observations_b += b.Plane("observations", x, y);
-    }
-  const double pixels = double(a.info.width) * a.info.height;
+  // The map's grid is the reference view's: its pixel size comes from the calibrated focal
+  // length, which each run estimates from its own noisy board images (measured: 257 and 259
+  // pixels across in two runs of 8 boards), so the two maps may differ by a pixel or two across.
+  // Compared per pixel of each.
+  struct MapSummary {
+    double pixels = 0, valid = 0, observations = 0;
+  };
+  auto summarise = [](const std::string& path) {
+    const SvbrdfMap m = ReadSvbrdfMap(path);
+    MapSummary s;
+    s.pixels = double(m.info.width) * m.info.height;
+    for (int y = 0; y < m.info.height; ++y)
+      for (int x = 0; x < m.info.width; ++x) {
+        s.valid += m.Plane("valid", x, y) > 0.5f;
+        s.observations += m.Plane("observations", x, y);
+      }
+    return s;
+  };
+  const MapSummary a = summarise(base + "/whole/session/svbrdf.exr");
+  const MapSummary b = summarise(base + "/resumed/session/svbrdf.exr");
   const std::string resumed_report = ReadText(base + "/resumed/session/report.json");
   const double median_resumed = JsonNumber(resumed_report, "median_log_rmse");
   const std::vector<double> validation_resumed = JsonNumbers(resumed_report, "relative_rms");
   WARN("uninterrupted against resumed: mean observations per pixel "
-       << observations_a / pixels << ", " << observations_b / pixels << "; valid pixels " << valid_a
-       << ", " << valid_b << " of " << pixels << "; median log-space RMSE " << median << ", "
-       << median_resumed);
-  CHECK(observations_a / pixels > 15);
-  CHECK(observations_b == Approx(observations_a).epsilon(0.03));
-  CHECK(double(valid_b) == Approx(double(valid_a)).epsilon(0.03));
+       << a.observations / a.pixels << ", " << b.observations / b.pixels << "; valid pixels "
+       << a.valid << " of " << a.pixels << ", " << b.valid << " of " << b.pixels
+       << "; median log-space RMSE " << median << ", " << median_resumed);
+  CHECK(a.observations / a.pixels > 15);
+  CHECK(b.observations / b.pixels == Approx(a.observations / a.pixels).epsilon(0.03));
+  CHECK(b.valid / b.pixels == Approx(a.valid / a.pixels).epsilon(0.03));
   CHECK(median_resumed == Approx(median).epsilon(0.03));
   REQUIRE(validation_resumed.size() == validation.size());
   for (std::size_t i = 0; i < validation.size(); ++i)

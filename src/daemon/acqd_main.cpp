@@ -29,6 +29,7 @@
 #include "core/angles.h"
 #include "core/error.h"
 #include "core/seconds_since.h"
+#include "daemon/background.h"
 #include "daemon/capture.h"
 #include "daemon/control.h"
 #include "daemon/process.h"
@@ -284,6 +285,17 @@ int Run(int argc, char** argv) {
       context.ask_operator = false;  // the recorded frames hold whatever was placed
       context.place = [](const std::string&) {};
     }
+    // Processing that overlaps the capture: merges of finished poses, the calibration once the
+    // boards are in.
+    BackgroundProcessing background(plan);
+    const std::string last_board_step = plan.validation.empty() ? "board" : "board_validation";
+    context.pose_captured = [&](const std::string& step, int pose) {
+      background.PoseCaptured(catalog.directory(), step, pose,
+                              SessionFrames::Of(catalog).OfPose(step, pose));
+    };
+    context.step_captured = [&](const std::string& step) {
+      if (step == last_board_step) background.BoardsCaptured(SessionFrames::Of(catalog));
+    };
     for (const CaptureStep& step : steps) context.poses_total += int(step.visit->poses.size());
     for (const CaptureStep& step : steps) report.capture += Capture(plan, step, context);
     gantry.SetLight(false, 0);
@@ -297,9 +309,15 @@ int Run(int argc, char** argv) {
         r.transfer_s);
     // Without Spectralon captures the light's intensity must be known: the simulated world's
     // (the plan refuses a real instrument without them).
-    phase("processing: HDR merge, calibration, correspondence, reconstruction, validation");
     const double light = world ? world->LightIntensityInCounts(plan.camera.pixel_format) : 0;
-    report.process = ProcessSession(plan, catalog, {light});
+    phase("processing: finishing what ran during the capture");
+    const auto finishing_start = SteadyClock::now();
+    std::optional<SessionCalibration> calibrated = background.Finish();
+    report.background_wait_s = SecondsSince(finishing_start);
+    report.background_busy_s = background.busy_s();
+    report.background_poses = background.poses_merged();
+    phase("processing: HDR merge, calibration, correspondence, reconstruction, validation");
+    report.process = ProcessSession(plan, catalog, {light}, std::move(calibrated));
     if (world) {
       phase("scoring against the simulated card's ground truth");
       const auto scoring_start = SteadyClock::now();

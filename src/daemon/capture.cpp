@@ -209,6 +209,7 @@ CaptureReport Capture(const Plan& plan, const CaptureStep& step, CaptureContext&
     if (done) {
       report.frames_skipped += int(bracket.size());
       status.frames += long(bracket.size());
+      if (c.pose_captured) c.pose_captured(step.step, int(i));
       continue;
     }
     // The capture's ETA from this run's pace over the poses it took (not those it skipped).
@@ -268,8 +269,10 @@ CaptureReport Capture(const Plan& plan, const CaptureStep& step, CaptureContext&
       ++status.frames;
       status.incomplete_frames = long(stats.incomplete);
     }
+    if (c.pose_captured) c.pose_captured(step.step, int(i));
   }
   c.catalog.MarkStepDone(step.step);
+  if (c.step_captured) c.step_captured(step.step);
   status.step = step.step + " captured";
   c.control.Publish(status);
   return report;

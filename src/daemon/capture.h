@@ -85,6 +85,10 @@ struct CaptureContext {
   bool ask_operator = true;
   std::function<void(const std::string& item)> place;
   std::string placed;  // the item known to be under the gantry ("" after a restart)
+  // Told when a pose's frames are all in the session (taken now or before), and when a step is
+  // captured: processing that can start then (background.h).
+  std::function<void(const std::string& step, int pose)> pose_captured;
+  std::function<void(const std::string& step)> step_captured;
   int poses_done = 0, poses_total = 0;  // for the progress over the whole session
   int poses_taken = 0;                  // this run: the rate the ETA is estimated from
   SteadyClock::time_point started = SteadyClock::now();

@@ -1,7 +1,7 @@
 #include "daemon/pose_hdr.h"
 
 #include <cstdio>
-#include <vector>
+#include <filesystem>
 
 #include "core/error.h"
 #include "core/seconds_since.h"
@@ -9,6 +9,52 @@
 #include "io/float_planes_exr.h"
 
 namespace acq {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string FrameList(const std::vector<CatalogFrame>& frames) {
+  std::string list;
+  for (const CatalogFrame& f : frames) list += (list.empty() ? "" : " ") + f.path;
+  return list;
+}
+
+// The hdr file of these frames when it is up to date: it names them and is newer than each.
+bool ReadUpToDate(const std::string& path, const std::string& dir,
+                  const std::vector<CatalogFrame>& frames, PoseHdr* out) {
+  std::error_code ec;
+  const auto written = fs::last_write_time(path, ec);
+  if (ec) return false;
+  for (const CatalogFrame& f : frames) {
+    const auto frame_time = fs::last_write_time(dir + "/" + f.path, ec);
+    if (ec || frame_time > written) return false;
+  }
+  FloatPlanes file;
+  try {
+    file = ReadFloatPlanesExr(path);
+  } catch (const UserError&) {
+    return false;  // damaged: merged again
+  }
+  if (file.attributes["frames"] != FrameList(frames) || !file.planes.count("radiance") ||
+      !file.planes.count("flag"))
+    return false;
+  out->hdr.width = file.width;
+  out->hdr.height = file.height;
+  out->hdr.radiance = file.planes["radiance"];
+  out->hdr.flag.assign(file.planes["flag"].begin(), file.planes["flag"].end());
+  out->arms = ParseArmAnglesAttribute(file.attributes["arms_measured_deg"], path);
+  out->direction = file.attributes["direction"];
+  return true;
+}
+
+}  // namespace
+
+std::vector<CatalogFrame> SessionFrames::OfPose(const std::string& step, int pose) const {
+  std::vector<CatalogFrame> out;
+  for (const CatalogFrame& f : frames)
+    if (f.step == step && f.pose == pose) out.push_back(f);
+  return out;
+}
 
 std::string PoseName(const std::string& step, int pose) {
   char name[64];
@@ -16,20 +62,16 @@ std::string PoseName(const std::string& step, int pose) {
   return name;
 }
 
-std::map<int, PoseHdr> MergeStep(const std::string& step, SessionCatalog& catalog,
-                                 double* seconds) {
+PoseHdr MergePose(const std::string& dir, const std::string& step, int pose,
+                  const std::vector<CatalogFrame>& frames, double* seconds) {
   const auto start = SteadyClock::now();
-  const std::string dir = catalog.directory();
-  std::map<int, std::vector<CatalogFrame>> by_pose;
-  for (const CatalogFrame& f : catalog.Frames())
-    if (f.step == step) by_pose[f.pose].push_back(f);
-  std::map<int, PoseHdr> merged;
-  for (const auto& [pose, frames] : by_pose) {
+  const std::string path = dir + "/hdr/" + PoseName(step, pose) + ".exr";
+  PoseHdr p;
+  if (!ReadUpToDate(path, dir, frames, &p)) {
     std::vector<Frame> bracket;
     std::map<std::string, std::string> attributes;
     for (const CatalogFrame& f : frames)
       bracket.push_back(ReadFrameExr(dir + "/" + f.path, &attributes));
-    PoseHdr& p = merged[pose];
     p.hdr = MergeBracket(bracket, {});
     p.arms = ParseArmAnglesAttribute(attributes["arms_measured_deg"], frames.front().path);
     p.direction = attributes["direction"];
@@ -39,9 +81,24 @@ std::map<int, PoseHdr> MergeStep(const std::string& step, SessionCatalog& catalo
     file.planes["radiance"] = p.hdr.radiance;
     file.planes["flag"].assign(p.hdr.flag.begin(), p.hdr.flag.end());
     file.attributes["unit"] = "counts per microsecond at 0 dB";
-    WriteFloatPlanesExr(dir + "/hdr/" + PoseName(step, pose) + ".exr", file);
+    file.attributes["frames"] = FrameList(frames);
+    file.attributes["arms_measured_deg"] = attributes["arms_measured_deg"];
+    file.attributes["direction"] = p.direction;
+    fs::create_directories(dir + "/hdr");
+    WriteFloatPlanesExr(path, file);
   }
   *seconds += SecondsSince(start);
+  return p;
+}
+
+std::map<int, PoseHdr> MergeStep(const std::string& step, const SessionFrames& session,
+                                 double* seconds) {
+  std::map<int, std::vector<CatalogFrame>> by_pose;
+  for (const CatalogFrame& f : session.frames)
+    if (f.step == step) by_pose[f.pose].push_back(f);
+  std::map<int, PoseHdr> merged;
+  for (const auto& [pose, frames] : by_pose)
+    merged[pose] = MergePose(session.dir, step, pose, frames, seconds);
   return merged;
 }
 

@@ -1,16 +1,31 @@
 // A capture step's poses as the processing reads them back from the session: each pose's
-// bracket merged into one HDR image (written to hdr/<step>_NNN.exr), with the arm angles the
-// gantry measured and the direction recorded with its frames.
+// bracket merged into one HDR image, written to hdr/<step>_NNN.exr with the arm angles the
+// gantry measured and the direction recorded with its frames. An hdr file that names exactly the
+// pose's frames and is newer than all of them is read back instead of merging again: the
+// merges made while the capture went on (background.h), and those of an earlier processing run.
 #pragma once
 
 #include <map>
 #include <string>
+#include <vector>
 
 #include "acq/hdr.h"
 #include "core/gantry_geometry.h"
 #include "io/session_catalog.h"
 
 namespace acq {
+
+// What the processing needs of a session's catalog, copied once: a worker thread reads this,
+// never the catalog's connection.
+struct SessionFrames {
+  std::string dir;
+  std::vector<CatalogFrame> frames;
+  static SessionFrames Of(const SessionCatalog& catalog) {
+    return {catalog.directory(), catalog.Frames()};
+  }
+  // The frames of one pose of a step, in the catalog's order.
+  std::vector<CatalogFrame> OfPose(const std::string& step, int pose) const;
+};
 
 struct PoseHdr {
   HdrImage hdr;
@@ -21,8 +36,13 @@ struct PoseHdr {
 // "<step>_NNN": the pose's name in hdr/, correspondence/ and messages.
 std::string PoseName(const std::string& step, int pose);
 
-// Merges every pose of `step` found in the catalog (pose index -> image) and writes
-// hdr/<step>_NNN.exr; adds the time taken to `*seconds`.
-std::map<int, PoseHdr> MergeStep(const std::string& step, SessionCatalog& catalog, double* seconds);
+// The merged image of one pose from its frames (merged and written, or read back when its hdr
+// file is up to date); adds the time taken to `*seconds`.
+PoseHdr MergePose(const std::string& dir, const std::string& step, int pose,
+                  const std::vector<CatalogFrame>& frames, double* seconds);
+
+// Every pose of `step` in the session (pose index -> image).
+std::map<int, PoseHdr> MergeStep(const std::string& step, const SessionFrames& session,
+                                 double* seconds);
 
 }  // namespace acq

@@ -39,12 +39,12 @@ std::array<ViewImage, 3> Channels(const HdrImage& hdr) {
 std::vector<SessionView> ViewsOf(const Plan& plan, const std::string& step,
                                  const std::string& spectralon_step,
                                  const calib::ReferenceView& reference,
-                                 const SessionGeometry& geometry, SessionCatalog& catalog,
+                                 const SessionGeometry& geometry, const SessionFrames& session,
                                  ProcessReport* report) {
   const SessionCalibration& calibration = report->calibration;
-  const std::map<int, PoseHdr> sample = MergeStep(step, catalog, &report->hdr_s);
+  const std::map<int, PoseHdr> sample = MergeStep(step, session, &report->hdr_s);
   const std::map<int, PoseHdr> spectralon =
-      plan.spectralon ? MergeStep(spectralon_step, catalog, &report->hdr_s)
+      plan.spectralon ? MergeStep(spectralon_step, session, &report->hdr_s)
                       : std::map<int, PoseHdr>();
   const auto start = SteadyClock::now();
   std::vector<SessionView> views;
@@ -64,13 +64,13 @@ std::vector<SessionView> ViewsOf(const Plan& plan, const std::string& step,
     SessionView view;
     view.name = p.direction.empty() ? PoseName(step, pose) : p.direction;
     view.correspondence = calib::ComputeCorrespondence(reference, calibrated);
-    WriteFloatPlanesExr(catalog.directory() + "/correspondence/" + PoseName(step, pose) + ".exr",
+    WriteFloatPlanesExr(session.dir + "/correspondence/" + PoseName(step, pose) + ".exr",
                         view.correspondence);
     view.sample = Channels(p.hdr);
     if (plan.spectralon) {
       const auto s = spectralon.find(pose);
       if (s == spectralon.end())
-        throw UserError(catalog.directory(), "no Spectralon capture of " + view.name,
+        throw UserError(session.dir, "no Spectralon capture of " + view.name,
                         "run acqd again with the same plan to capture what is missing");
       view.spectralon = Channels(s->second.hdr);
     }
@@ -100,16 +100,22 @@ void WriteComparison(const ValidationResult& r, const std::string& path) {
 }  // namespace
 
 ProcessReport ProcessSession(const Plan& plan, SessionCatalog& catalog,
-                             const SessionGeometry& geometry) {
+                             const SessionGeometry& geometry,
+                             std::optional<SessionCalibration> calibrated) {
   ProcessReport report;
   const std::string dir = catalog.directory();
+  const SessionFrames session = SessionFrames::Of(catalog);
   for (const char* sub : {"hdr", "correspondence", "calibration", "renders"})
     fs::create_directories(fs::path(dir) / sub);
   auto start = SteadyClock::now();
-  double calibration_hdr_s = 0;
-  report.calibration = CalibrateSession(plan, catalog, &calibration_hdr_s);
-  report.hdr_s += calibration_hdr_s;
-  report.calibration_s = SecondsSince(start) - calibration_hdr_s;
+  if (calibrated) {
+    report.calibration = std::move(*calibrated);
+  } else {
+    double calibration_hdr_s = 0;
+    report.calibration = CalibrateSession(plan, session, &calibration_hdr_s);
+    report.hdr_s += calibration_hdr_s;
+    report.calibration_s = SecondsSince(start) - calibration_hdr_s;
+  }
   const calib::CameraModel& camera = report.calibration.camera;
 
   // The reference view, the pixel grid the maps are on: the calibrated camera straight above
@@ -134,7 +140,7 @@ ProcessReport ProcessSession(const Plan& plan, SessionCatalog& catalog,
   report.sample_points = calib::SamplePoints(reference);
 
   std::vector<SessionView> views =
-      ViewsOf(plan, "sample", "spectralon", reference, geometry, catalog, &report);
+      ViewsOf(plan, "sample", "spectralon", reference, geometry, session, &report);
   if (views.empty()) throw UserError(dir, "no sample frames to process");
 
   start = SteadyClock::now();
@@ -156,7 +162,7 @@ ProcessReport ProcessSession(const Plan& plan, SessionCatalog& catalog,
 
   if (plan.validation.empty()) return report;
   std::vector<SessionView> checks =
-      ViewsOf(plan, "validation", "spectralon_validation", reference, geometry, catalog, &report);
+      ViewsOf(plan, "validation", "spectralon_validation", reference, geometry, session, &report);
   start = SteadyClock::now();
   const SvbrdfMap map = ReadSvbrdfMap(dir + "/svbrdf.exr");
   for (std::size_t i = 0; i < checks.size(); ++i) {

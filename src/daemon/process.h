@@ -18,6 +18,7 @@
 // with SessionGeometry::light_intensity. The light's position comes from its arm's angles.
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -52,7 +53,10 @@ struct ProcessReport {
   std::vector<ValidationSummary> validation;
 };
 
+// `calibrated`: the calibration already computed from this session's board captures (while
+// the capture went on, background.h); without it, computed here.
 ProcessReport ProcessSession(const Plan& plan, SessionCatalog& catalog,
-                             const SessionGeometry& geometry);
+                             const SessionGeometry& geometry,
+                             std::optional<SessionCalibration> calibrated = std::nullopt);
 
 }  // namespace acq

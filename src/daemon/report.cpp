@@ -34,8 +34,8 @@ std::string Share(double part, double whole) {
 double SessionReport::OverheadS() const {
   const ProcessReport& p = process;
   return wall_s - capture.motion_s - capture.exposure_s - capture.transfer_s -
-         capture.bracket_probe_s - capture.operator_s - p.hdr_s - p.calibration_s -
-         p.correspondence_s - p.reconstruction_s - p.validation_s - scoring_s;
+         capture.bracket_probe_s - capture.operator_s - background_wait_s - p.hdr_s -
+         p.calibration_s - p.correspondence_s - p.reconstruction_s - p.validation_s - scoring_s;
 }
 
 std::string SessionReport::Json() const {
@@ -48,7 +48,8 @@ std::string SessionReport::Json() const {
     << ", \"motion\": " << capture.motion_s << ", \"exposure\": " << capture.exposure_s
     << ", \"transfer\": " << capture.transfer_s
     << ", \"bracket_probes\": " << capture.bracket_probe_s
-    << ", \"operator\": " << capture.operator_s << ", \"hdr_merge\": " << p.hdr_s
+    << ", \"operator\": " << capture.operator_s << ", \"background_wait\": " << background_wait_s
+    << ", \"background_busy\": " << background_busy_s << ", \"hdr_merge\": " << p.hdr_s
     << ", \"calibration\": " << p.calibration_s << ", \"correspondence\": " << p.correspondence_s
     << ", \"reconstruction\": " << p.reconstruction_s << ", \"validation\": " << p.validation_s
     << ", \"scoring\": " << scoring_s << ", \"planning\": " << planning_s
@@ -110,7 +111,8 @@ std::string SessionReport::Text() const {
       {"transfer", capture.transfer_s},
       {"choosing brackets (probes)", capture.bracket_probe_s},
       {"waiting for the operator", capture.operator_s},
-      {"HDR merge", p.hdr_s},
+      {"finishing the overlapped work", background_wait_s},
+      {"HDR merge (what was left)", p.hdr_s},
       {"calibration (detect, solve)", p.calibration_s},
       {"correspondence", p.correspondence_s},
       {"reconstruction", p.reconstruction_s},
@@ -122,6 +124,11 @@ std::string SessionReport::Text() const {
     std::snprintf(line, sizeof line, "  %-30s %8.2f s  %s\n", what, s, Share(s, wall_s).c_str());
     t << line;
   }
+  std::snprintf(line, sizeof line,
+                "  (during the capture, on a worker: %d poses merged and the calibration, %.2f s "
+                "of its time)\n",
+                background_poses, background_busy_s);
+  t << line;
   std::snprintf(line, sizeof line, "\nframes: %d taken, %d already there\n", capture.frames_taken,
                 capture.frames_skipped);
   t << line;

@@ -22,6 +22,10 @@ struct SessionReport {
   double planning_s = 0;  // the visiting order
   double scoring_s = 0;   // against the simulated truth (simulation only)
   CaptureReport capture;
+  // Processing that ran during the capture (background.h): worker time (overlapped, so not part
+  // of the breakdown), the poses it merged, and the wait for what it had left at the end.
+  double background_busy_s = 0, background_wait_s = 0;
+  int background_poses = 0;
   ProcessReport process;
   // The simulated instrument only: the map against the card's true materials, and the
   // homogeneous result for the same materials and directions (Yu et al. / NJR15 evaluation).

@@ -167,15 +167,15 @@ const BoardPoseResult* SessionCalibration::PoseOf(const std::string& step, int p
   return nullptr;
 }
 
-SessionCalibration CalibrateSession(const Plan& plan, SessionCatalog& catalog,
+SessionCalibration CalibrateSession(const Plan& plan, const SessionFrames& session,
                                     double* hdr_seconds) {
-  const std::string dir = catalog.directory();
+  const std::string& dir = session.dir;
   std::filesystem::create_directories(dir + "/calibration");
   const calib::BoardSpec board = BoardOf(plan);
   SessionCalibration c;
   std::vector<calib::BoardObservation> all;
   if (plan.intrinsics_captures > 0) {
-    const std::map<int, PoseHdr> held = MergeStep("intrinsics", catalog, hdr_seconds);
+    const std::map<int, PoseHdr> held = MergeStep("intrinsics", session, hdr_seconds);
     const auto start = SteadyClock::now();
     const std::vector<calib::BoardObservation> obs = Detect(held, "intrinsics", board);
     all.insert(all.end(), obs.begin(), obs.end());
@@ -188,7 +188,7 @@ SessionCalibration CalibrateSession(const Plan& plan, SessionCatalog& catalog,
   c.camera.Write(dir + "/calibration/camera.cameramodel");
   for (const std::string step : {"board", "board_validation"}) {
     if (step == "board_validation" && plan.validation.empty()) continue;
-    const std::map<int, PoseHdr> poses = MergeStep(step, catalog, hdr_seconds);
+    const std::map<int, PoseHdr> poses = MergeStep(step, session, hdr_seconds);
     const auto start = SteadyClock::now();
     const std::vector<calib::BoardObservation> obs = Detect(poses, step, board);
     all.insert(all.end(), obs.begin(), obs.end());

@@ -17,7 +17,7 @@
 #include "acq/plan.h"
 #include "calib/camera_model.h"
 #include "core/gantry_geometry.h"
-#include "io/session_catalog.h"
+#include "daemon/pose_hdr.h"
 
 namespace acq {
 
@@ -51,6 +51,7 @@ struct SessionCalibration {
 };
 
 // Throws UserError (what to recapture) when the intrinsics cannot be solved.
-SessionCalibration CalibrateSession(const Plan& plan, SessionCatalog& catalog, double* hdr_seconds);
+SessionCalibration CalibrateSession(const Plan& plan, const SessionFrames& session,
+                                    double* hdr_seconds);
 
 }  // namespace acq

@@ -1,0 +1,81 @@
+#include "daemon/background.h"
+
+#include "core/seconds_since.h"
+
+namespace acq {
+
+BackgroundProcessing::BackgroundProcessing(const Plan& plan)
+    : plan_(plan), worker_([this] { Run(); }) {}
+
+BackgroundProcessing::~BackgroundProcessing() {
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    stopping_ = true;
+  }
+  wake_.notify_all();
+  worker_.join();
+}
+
+void BackgroundProcessing::Run() {
+  std::unique_lock<std::mutex> lock(mutex_);
+  for (;;) {
+    wake_.wait(lock, [&] { return stopping_ || !queue_.empty(); });
+    if (queue_.empty()) return;  // stopping, all done
+    std::function<void()> job = std::move(queue_.front());
+    queue_.pop_front();
+    working_ = true;
+    lock.unlock();
+    const auto start = SteadyClock::now();
+    try {
+      job();
+    } catch (const std::exception&) {
+      // Left for the processing, which does the same work again and reports the failure.
+    }
+    const double spent = SecondsSince(start);
+    lock.lock();
+    busy_s_ += spent;
+    working_ = false;
+    wake_.notify_all();
+  }
+}
+
+void BackgroundProcessing::PoseCaptured(const std::string& dir, const std::string& step, int pose,
+                                        std::vector<CatalogFrame> frames) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  queue_.push_back([this, dir, step, pose, frames = std::move(frames)] {
+    double seconds = 0;
+    MergePose(dir, step, pose, frames, &seconds);
+    std::lock_guard<std::mutex> done(mutex_);
+    ++poses_merged_;
+  });
+  wake_.notify_all();
+}
+
+void BackgroundProcessing::BoardsCaptured(SessionFrames session) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  queue_.push_back([this, session = std::move(session)] {
+    double seconds = 0;
+    SessionCalibration c = CalibrateSession(plan_, session, &seconds);
+    std::lock_guard<std::mutex> done(mutex_);
+    calibration_ = std::move(c);
+  });
+  wake_.notify_all();
+}
+
+std::optional<SessionCalibration> BackgroundProcessing::Finish() {
+  std::unique_lock<std::mutex> lock(mutex_);
+  wake_.wait(lock, [&] { return queue_.empty() && !working_; });
+  return calibration_;
+}
+
+double BackgroundProcessing::busy_s() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return busy_s_;
+}
+
+int BackgroundProcessing::poses_merged() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return poses_merged_;
+}
+
+}  // namespace acq
