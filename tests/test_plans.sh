@@ -65,6 +65,8 @@ expect "unknown lens model" 1 bad_lensmodel.yaml --dry-run -- \
   "bad_lensmodel.yaml:18:14:" "unknown or unconfigured lens model 'LENSMODEL_OPENCV6'"
 expect "intrinsics given twice" 1 both_intrinsics.yaml --dry-run -- \
   "both_intrinsics.yaml:18:17:" "exclude each other"
+expect "directions given twice" 1 two_directions.yaml --dry-run -- \
+  "two_directions.yaml:" "directions.file and directions.optimize exclude each other"
 expect "no plan" 1 no_such_plan.yaml --dry-run -- "no_such_plan.yaml" "cannot read the plan"
 
 echo "$passed passed, $failures failed"

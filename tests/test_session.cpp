@@ -213,6 +213,22 @@ TEST_CASE("session: a whole simulated session, scored; kill -9 and resume give t
 
   fs::create_directories(base);
   BuildBasis(basis);
+  // directions.optimize: the plan's directions chosen for its basis when it is loaded (here a
+  // dry run: chosen, collision-checked and ordered, nothing opened).
+  {
+    std::string text = ReadText(WritePlan(base + "/optimised", basis));
+    const std::size_t at = text.find("directions: {file: ");
+    text.replace(at, text.find(", validation:", at) - at,
+                 "directions: {optimize: {n: 20, seed: 3, candidates: 200}");
+    std::ofstream(base + "/optimised/plan.yaml") << text;
+    const std::string dry = Output(std::string(ACQD_PATH) + " --session " + base +
+                                   "/optimised/plan.yaml --dry-run 2>&1");
+    INFO(dry);
+    CHECK(dry.find("20 directions optimised (seed 3") != std::string::npos);
+    CHECK(dry.find("optimised direction 20") != std::string::npos);
+    CHECK(dry.find("estimated capture time") != std::string::npos);
+  }
+
   // The reference: an uninterrupted run, its status asked all the way through.
   const std::string whole = WritePlan(base + "/whole", basis);
   const auto t0 = std::chrono::steady_clock::now();

@@ -2,10 +2,14 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <algorithm>
+#include <cstdio>
 #include <filesystem>
 #include <functional>
 #include <set>
 
+#include "brdf/basis_file.h"
+#include "brdf/direction_optimizer.h"
 #include "core/angles.h"
 #include "core/error.h"
 
@@ -137,6 +141,33 @@ const char* BackendName(Backend b) {
   return "?";
 }
 
+// directions.optimize: the directions chosen for the plan's basis, k and eta under the
+// gantry's constraints, scored over the sample's field of view at the arms' distances (what
+// `acq directions optimize` does); deterministic for a seed, so a resumed run gets the same.
+static void OptimizePlanDirections(Plan* plan) {
+  const MappedBasis mapped = MappedBasis::Open(plan->basis_file);
+  OptimizerOptions o;
+  o.n = plan->optimize_n;
+  o.k = std::min(plan->components, plan->optimize_n);
+  o.seed = plan->optimize_seed;
+  o.candidates = plan->optimize_candidates;
+  o.constraints = plan->motion.constraints;
+  o.eta = plan->eta;
+  o.geometry = {plan->camera_distance_mm, plan->light_distance_mm,
+                std::max(plan->sample_width_mm, plan->sample_height_mm)};
+  o.progress = false;
+  o.Check(mapped.View());
+  const OptimizedDirections result = OptimizeDirections(mapped.View(), o);
+  plan->directions = result.directions;
+  for (std::size_t i = 0; i < plan->directions.size(); ++i)
+    plan->directions[i].where = "optimised direction " + std::to_string(i + 1);
+  char what[160];
+  std::snprintf(what, sizeof what, "%d directions optimised (seed %llu, condition number %.4g)",
+                o.n, (unsigned long long)o.seed, result.condition);
+  plan->directions_file = what;
+  CheckReachable(plan->directions, plan->motion);
+}
+
 Plan LoadPlan(const std::string& path) {
   YAML::Node root;
   try {
@@ -241,14 +272,32 @@ Plan LoadPlan(const std::string& path) {
   plan.camera.exposure_us = plan.bracket_us.empty() ? 10000 : plan.bracket_us.front();
   camera.At("gain_db", [&] { plan.camera.Check(""); });
 
-  const Section directions = top.Child("directions", {"file", "validation"});
-  plan.directions_file = Resolve(path, directions.Required("file"));
-  RequireFile(directions, "file", plan.directions_file,
-              "give a directions TSV (acq directions optimize writes one)");
-  plan.directions = ReadDirectionsTsv(plan.directions_file);  // errors name file:line
-  if (plan.directions.empty())
-    throw UserError(directions.Where("file"), "no directions in " + plan.directions_file);
-  CheckReachable(plan.directions, plan.motion);  // names the direction's file:line and the rule
+  const Section directions = top.Child("directions", {"file", "optimize", "validation"});
+  const bool optimize = directions.Has("optimize");
+  if (optimize == directions.Has("file"))
+    throw UserError(directions.Where(optimize ? "file" : "optimize"),
+                    optimize ? "directions.file and directions.optimize exclude each other"
+                             : "missing 'directions.file' or 'directions.optimize'",
+                    "give a directions TSV, or optimize: {n: 20} to choose them for the basis");
+  const Section optimizer = directions.Child("optimize", {"n", "seed", "candidates"});
+  if (optimize) {
+    // Chosen below, once the basis is known (reconstruction.basis).
+    plan.optimize_n = optimizer.Integer("n", plan.optimize_n);
+    plan.optimize_seed = std::uint64_t(optimizer.Integer("seed", 1));
+    plan.optimize_candidates = optimizer.Integer("candidates", plan.optimize_candidates);
+    if (plan.optimize_n < 1 || plan.optimize_n > 200 || plan.optimize_candidates < 1)
+      throw UserError(optimizer.Where("n"),
+                      "directions.optimize.n must be in 1..200 and candidates at least 1",
+                      "about 20 directions is the method's design (Yu et al.)");
+  } else {
+    plan.directions_file = Resolve(path, directions.Required("file"));
+    RequireFile(directions, "file", plan.directions_file,
+                "give a directions TSV (acq directions optimize writes one)");
+    plan.directions = ReadDirectionsTsv(plan.directions_file);  // errors name file:line
+    if (plan.directions.empty())
+      throw UserError(directions.Where("file"), "no directions in " + plan.directions_file);
+    CheckReachable(plan.directions, plan.motion);  // names the direction's file:line and rule
+  }
   if (!directions.Text("validation").empty()) {
     plan.validation_file = Resolve(path, directions.Text("validation"));
     RequireFile(directions, "validation", plan.validation_file,
@@ -347,6 +396,7 @@ Plan LoadPlan(const std::string& path) {
   if (!(plan.eta >= 0)) throw UserError(recon.Where("eta"), "reconstruction.eta must be >= 0");
   if (plan.row_tile < 1)
     throw UserError(recon.Where("row_tile"), "reconstruction.row_tile must be >= 1");
+  if (optimize) optimizer.At("n", [&] { OptimizePlanDirections(&plan); });
   return plan;
 }
 

@@ -35,8 +35,11 @@ struct Plan {
   std::vector<double> bracket_us;  // empty: automatic bracket
   bool auto_bracket = false;
 
-  std::string directions_file;
+  std::string directions_file;  // or, optimised, what chose them
   std::vector<Direction> directions;
+  // directions.optimize: chosen at load for the basis (0: read from directions_file).
+  int optimize_n = 20, optimize_candidates = 1000;
+  std::uint64_t optimize_seed = 1;
   // Validation views: captured like the sample's, never used to reconstruct; the map's
   // renders are compared with them (optional).
   std::string validation_file;

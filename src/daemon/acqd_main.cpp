@@ -265,6 +265,8 @@ int Run(int argc, char** argv) {
   // last error before acqd exits (the frames taken stay; running the plan again resumes).
   try {
     if (world) world->WriteGroundTruth(plan.output + "/ground_truth");
+    WriteDirectionsTsv(plan.directions, plan.output + "/directions.tsv",
+                       "the directions this session used: " + plan.directions_file);
     catalog.Event("info", "session started (" + std::string(BackendName(plan.backend)) + ")");
     phase("homing");
     gantry.Home();
