@@ -142,11 +142,17 @@ std::string SessionReport::Text() const {
   const SessionCalibration& c = p.calibration;
   int found = 0;
   for (const BoardPoseResult& b : c.boards) found += b.found;
-  std::snprintf(line, sizeof line,
-                "calibration: %s from %s, residual %.3f px, projection uncertainty %.3f px at the "
-                "centre, %.3f px worst; board found at %d of %zu poses\n",
-                c.camera.lensmodel_name().c_str(), c.intrinsics_from.c_str(), c.intrinsics_rms_px,
-                c.uncertainty_centre_px, c.uncertainty_worst_px, found, c.boards.size());
+  if (c.intrinsics_captures > 0)
+    std::snprintf(line, sizeof line,
+                  "calibration: %s from %s, residual %.3f px, projection uncertainty %.3f px at "
+                  "the centre, %.3f px worst; board found at %d of %zu poses\n",
+                  c.camera.lensmodel_name().c_str(), c.intrinsics_from.c_str(), c.intrinsics_rms_px,
+                  c.uncertainty_centre_px, c.uncertainty_worst_px, found, c.boards.size());
+  else
+    std::snprintf(line, sizeof line,
+                  "calibration: %s calibrated before (%s); board found at %d of %zu poses\n",
+                  c.camera.lensmodel_name().c_str(), c.intrinsics_from.c_str(), found,
+                  c.boards.size());
   t << line;
   for (const std::string& w : c.warnings) t << "  WARNING: " << w << "\n";
   for (const ValidationSummary& v : p.validation) {
