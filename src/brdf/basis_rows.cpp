@@ -26,7 +26,7 @@ GridCoordinate CoordinateOf(const RusinkiewiczAngles& a) {
 bool SampleBasis(const BasisView& basis, const Eigen::Vector3d& in, const Eigen::Vector3d& out,
                  int k, RowLookup lookup, float* row, BasisSample* sample) {
   if (!(in.z() > 0 && out.z() > 0)) return false;
-  const RusinkiewiczAngles a = RusinkiewiczFromDirections(in, out);
+  const RusinkiewiczAngles a = IsotropicAnglesFromDirections(in, out);
   sample->cos_weight = float(merl::CosWeight({in, out}));
   if (lookup == RowLookup::kNearest) {
     const std::size_t bin = merl::BinOf(a).Flat();

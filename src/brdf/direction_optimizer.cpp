@@ -34,7 +34,7 @@ class AllowedBins {
       bool ok = true;
       for (std::size_t p = 0; p < np && np > 1; ++p) {
         const DirectionPair d = o.geometry.DirectionsAt(far, positions_[p]);
-        const std::size_t pb = merl::BinOf(RusinkiewiczFromDirections(d.in, d.out)).Flat();
+        const std::size_t pb = merl::BinOf(IsotropicAnglesFromDirections(d.in, d.out)).Flat();
         ok = ok && AboveHorizon(d) && basis.valid[pb];
         position_bins_[b * np + p] = std::uint32_t(pb);
       }

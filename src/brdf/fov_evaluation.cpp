@@ -73,7 +73,7 @@ FovResult EvaluateOverFov(const HeldOutSet& h, const std::vector<Direction>& dir
     std::vector<std::size_t> seen, used_rows;
     for (std::size_t i = 0; i < arms.size(); ++i) {
       const DirectionPair d = o.geometry.DirectionsAt(arms[i], positions[p]);
-      const std::size_t bin = merl::BinOf(RusinkiewiczFromDirections(d.in, d.out)).Flat();
+      const std::size_t bin = merl::BinOf(IsotropicAnglesFromDirections(d.in, d.out)).Flat();
       if (!AboveHorizon(d) || !basis.valid[bin]) continue;
       seen.push_back(bin);
       used_rows.push_back(o.ignore_near_field ? centre_bins[i] : bin);

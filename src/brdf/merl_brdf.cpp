@@ -11,7 +11,7 @@ namespace acq {
 
 std::array<double, 3> MerlBrdf::Lookup(const Eigen::Vector3d& in,
                                        const Eigen::Vector3d& out) const {
-  const std::size_t bin = merl::BinOf(RusinkiewiczFromDirections(in, out)).Flat();
+  const std::size_t bin = merl::BinOf(IsotropicAnglesFromDirections(in, out)).Flat();
   return {Value(0, bin), Value(1, bin), Value(2, bin)};
 }
 

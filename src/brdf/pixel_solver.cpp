@@ -44,12 +44,13 @@ struct ViewRows {
   std::vector<std::uint8_t> ok;
   std::vector<BasisSample> samples;
   RowMatrix rows;
+  std::vector<float> row;  // one view's, before widening (kept: a pixel allocates nothing)
   void Sample(const BasisView& basis, const PixelObservations& obs, int pixel, int k,
               RowLookup lookup) {
     ok.assign(obs.views, 0);
     samples.resize(obs.views);
     rows.resize(obs.views, k);
-    std::vector<float> row(k);
+    row.resize(k);
     for (int v = 0; v < obs.views; ++v) {
       const std::size_t i = obs.At(pixel, v);
       ok[v] = SampleBasis(basis, obs.light[i].cast<double>(), obs.camera[i].cast<double>(), k,
@@ -59,40 +60,56 @@ struct ViewRows {
   }
 };
 
-// Extreme eigenvalues of a symmetric positive definite matrix a (with its Cholesky factor) by
-// power iteration and inverse iteration, measured by their Rayleigh quotients. A Rayleigh
-// quotient's error is second order in the iterate's error, so a dozen steps give the condition
-// number to well under a percent on these 20 x 20 normal matrices (checked against a full
-// eigendecomposition in the tests), at a fraction of the cost of one: the eigensolver was the
-// largest single cost of the per-pixel solve.
-double ConditionSquared(const Eigen::MatrixXd& a, const Eigen::LLT<Eigen::MatrixXd>& llt,
-                        Eigen::VectorXd& v, Eigen::VectorXd& w) {
-  constexpr int kSteps = 12;
-  const int k = int(a.rows());
-  v.setConstant(k, 1.0 / std::sqrt(double(k)));
-  double largest = 0;
-  for (int i = 0; i < kSteps; ++i) {
-    w.noalias() = a.selfadjointView<Eigen::Lower>() * v;
-    largest = v.dot(w);
-    v = w / w.norm();
-  }
-  v.setConstant(k, 1.0 / std::sqrt(double(k)));
-  for (int i = 0; i < kSteps; ++i) {
-    w = llt.solve(v);
-    v = w / w.norm();
-  }
-  w.noalias() = a.selfadjointView<Eigen::Lower>() * v;
-  const double smallest = v.dot(w);
-  return largest / smallest;
-}
-
 }  // namespace
+
+// Extreme eigenvalues of a symmetric positive definite matrix by power iteration and inverse
+// iteration, measured by their Rayleigh quotients. A Rayleigh quotient's error is second order in
+// the iterate's error, so from a cold start a dozen steps give the condition number to well
+// under a percent on these 20 x 20 normal matrices (checked against a full eigendecomposition in
+// the tests), at a fraction of the cost of one: the eigensolver was the largest single cost of
+// the per-pixel solve. From the previous pixel's eigenvectors two or three steps do; iteration
+// stops once a step changes the quotient by under 1e-5 of it (a slowly converging iteration
+// means nearly equal eigenvalues, whose quotient is then already close).
+double ConditionEstimator::Estimate(const Eigen::MatrixXd& a,
+                                    const Eigen::LLT<Eigen::MatrixXd>& llt) {
+  constexpr int kMaxSteps = 12;
+  constexpr double kSettled = 1e-5;
+  const Eigen::Index k = a.rows();
+  if (largest_.size() != k) {
+    largest_.setConstant(k, 1.0 / std::sqrt(double(k)));
+    smallest_ = largest_;
+  }
+  steps_ = 0;
+  double largest = 0;
+  for (int i = 0; i < kMaxSteps; ++i, ++steps_) {
+    w_.noalias() = a.selfadjointView<Eigen::Lower>() * largest_;
+    const double q = largest_.dot(w_);
+    largest_ = w_ / w_.norm();
+    const bool settled = i > 0 && std::abs(q - largest) <= kSettled * q;
+    largest = q;
+    if (settled) break;
+  }
+  // Inverse iteration: the Rayleigh quotient of A^-1 is 1 / (the smallest eigenvalue of A).
+  double inverse = 0;
+  for (int i = 0; i < kMaxSteps; ++i, ++steps_) {
+    w_ = llt.solve(smallest_);
+    const double q = smallest_.dot(w_);
+    smallest_ = w_ / w_.norm();
+    const bool settled = i > 0 && std::abs(q - inverse) <= kSettled * q;
+    inverse = q;
+    if (settled) break;
+  }
+  if (!std::isfinite(largest) || !std::isfinite(inverse) || largest <= 0 || inverse <= 0) {
+    largest_.resize(0);  // start cold next time
+    return std::numeric_limits<double>::infinity();
+  }
+  return std::sqrt(largest * inverse);
+}
 
 double EstimateConditionNumber(const Eigen::MatrixXd& normal) {
   Eigen::LLT<Eigen::MatrixXd> llt(normal);
   if (llt.info() != Eigen::Success) return std::numeric_limits<double>::infinity();
-  Eigen::VectorXd v, w;
-  return std::sqrt(ConditionSquared(normal, llt, v, w));
+  return ConditionEstimator().Estimate(normal, llt);
 }
 
 namespace {
@@ -103,7 +120,7 @@ struct Factor {
   std::vector<std::uint8_t> views;  // which views the rows came from
   Eigen::LLT<Eigen::MatrixXd> llt, plain;
   Eigen::MatrixXd normal, gram;
-  Eigen::VectorXd v, w;
+  ConditionEstimator estimator;  // warm from the worker's previous pixel
   double condition = 0;
   void Compute(const Eigen::Ref<const RowMatrix>& q, int k, double eta) {
     const int n = int(q.rows());
@@ -123,7 +140,7 @@ struct Factor {
     }
     plain.compute(*square);
     condition = plain.info() != Eigen::Success ? std::numeric_limits<double>::infinity()
-                                               : std::sqrt(ConditionSquared(*square, plain, v, w));
+                                               : estimator.Estimate(*square, plain);
     if (!std::isfinite(condition) || condition <= 0)
       condition = std::numeric_limits<double>::infinity();
     normal.diagonal().array() += eta;
@@ -149,7 +166,7 @@ void SolvePixels(const BasisView& basis, const PixelObservations& obs,
     ViewRows shared;
     Factor factor;
     RowMatrix q(obs.views, k);
-    Eigen::MatrixXd y(obs.views, 3);
+    Eigen::MatrixXd y(obs.views, 3), rhs(k, 3), c(k, 3), fit(obs.views, 3);
     std::vector<std::uint8_t> used(obs.views);
 #pragma omp for schedule(dynamic, 16)
     for (int t = 0; t < tiles_x * tiles_y; ++t) {
@@ -191,8 +208,10 @@ void SolvePixels(const BasisView& basis, const PixelObservations& obs,
             factor.views = used;
           }
           const auto qn = q.topRows(n);
-          const Eigen::MatrixXd c = factor.llt.solve(qn.transpose() * y.topRows(n));
-          const double misfit = (qn * c - y.topRows(n)).squaredNorm();
+          rhs.noalias() = qn.transpose() * y.topRows(n);
+          c = factor.llt.solve(rhs);
+          fit.noalias() = qn * c;
+          const double misfit = (fit - y.topRows(n)).squaredNorm();
           const bool finite = c.allFinite() && std::isfinite(misfit);
           for (int ch = 0; ch < 3; ++ch)
             for (int j = 0; j < k; ++j) coeff[ch * k + j] = finite ? float(c(j, ch)) : 0.0f;

@@ -5,6 +5,7 @@
 // an occluded view costs only the pixels it touches.
 #pragma once
 
+#include <Eigen/Cholesky>
 #include <Eigen/Core>
 #include <cstdint>
 #include <string>
@@ -45,6 +46,21 @@ class ObservationSource {
 // per-pixel solve estimates it: the square root of the ratio of its extreme eigenvalues, by power
 // and inverse iteration. Infinite when Q^T Q is not positive definite.
 double EstimateConditionNumber(const Eigen::MatrixXd& normal);
+
+// The same for a sequence of matrices (the pixels of a worker, one after another): each
+// estimate starts from the previous matrix's extreme eigenvectors, which neighbouring pixels
+// nearly share, and iterates until the Rayleigh quotients settle (at most 12 steps each).
+class ConditionEstimator {
+ public:
+  // `llt`: the Cholesky factor of `a` (computed by the caller, who needs it anyway). Returns
+  // the condition number of the rows (the square root of a's eigenvalue ratio).
+  double Estimate(const Eigen::MatrixXd& a, const Eigen::LLT<Eigen::MatrixXd>& llt);
+  int last_steps() const { return steps_; }  // power plus inverse steps of the last estimate
+
+ private:
+  Eigen::VectorXd largest_, smallest_, w_;
+  int steps_ = 0;
+};
 
 struct PixelSolveOptions {
   int components = 20;  // k

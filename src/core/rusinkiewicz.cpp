@@ -23,25 +23,39 @@ Eigen::Vector3d DifferenceVector(double theta_d, double phi_d) {
   return SphericalDirection(theta_d, phi_d);
 }
 
-RusinkiewiczAngles RusinkiewiczFromDirections(const Eigen::Vector3d& in,
-                                              const Eigen::Vector3d& out) {
+namespace {
+
+RusinkiewiczAngles Convert(const Eigen::Vector3d& in, const Eigen::Vector3d& out, bool phi_h) {
   const Eigen::Vector3d half = (in + out).normalized();
-  const double sin_h = std::hypot(half.x(), half.y()), cos_h = half.z();
+  // Unit vectors: sqrt is exact enough here, and hypot's overflow guard costs.
+  const double sin_h = std::sqrt(half.x() * half.x() + half.y() * half.y()), cos_h = half.z();
   RusinkiewiczAngles a;
   a.theta_h = std::atan2(sin_h, cos_h);
   // At theta_h = 0 phi_h is undefined and phi_d is measured from it; the convention is
   // phi_h = 0, so phi_d is the azimuth of w_i in the surface frame.
   const bool pole = sin_h < kPoleTolerance;
-  a.phi_h = pole ? 0.0 : std::atan2(half.y(), half.x());
+  a.phi_h = pole || !phi_h ? 0.0 : std::atan2(half.y(), half.x());
   const double cos_p = pole ? 1.0 : half.x() / sin_h, sin_p = pole ? 0.0 : half.y() / sin_h;
   // Rotate w_i into the half-vector frame: -phi_h about the normal, then -theta_h about y. The
   // cosines and sines come from the half vector itself; no trigonometric calls.
   const double x1 = cos_p * in.x() + sin_p * in.y();
   const double y1 = -sin_p * in.x() + cos_p * in.y();
   const Eigen::Vector3d diff(cos_h * x1 - sin_h * in.z(), y1, sin_h * x1 + cos_h * in.z());
-  a.theta_d = ZenithOf(diff);
+  a.theta_d = std::atan2(std::sqrt(diff.x() * diff.x() + diff.y() * diff.y()), diff.z());
   a.phi_d = std::atan2(diff.y(), diff.x());
   return a;
+}
+
+}  // namespace
+
+RusinkiewiczAngles RusinkiewiczFromDirections(const Eigen::Vector3d& in,
+                                              const Eigen::Vector3d& out) {
+  return Convert(in, out, true);
+}
+
+RusinkiewiczAngles IsotropicAnglesFromDirections(const Eigen::Vector3d& in,
+                                                 const Eigen::Vector3d& out) {
+  return Convert(in, out, false);
 }
 
 DirectionPair DirectionsFromRusinkiewicz(const RusinkiewiczAngles& a) {

@@ -26,6 +26,10 @@ struct DirectionPair {
 // When the half vector is the normal (theta_h = 0), phi_h is taken as 0.
 RusinkiewiczAngles RusinkiewiczFromDirections(const Eigen::Vector3d& in,
                                               const Eigen::Vector3d& out);
+// The same without phi_h (left 0): what an isotropic BRDF's bin needs, one atan2 fewer (the
+// per-pixel solve converts every observation).
+RusinkiewiczAngles IsotropicAnglesFromDirections(const Eigen::Vector3d& in,
+                                                 const Eigen::Vector3d& out);
 
 // Inverse of RusinkiewiczFromDirections: rotates the difference vector back out of the
 // half-vector frame.
