@@ -150,6 +150,9 @@ struct Factor {
 
 }  // namespace
 
+// Work units handed to a thread at a time (OpenMP's dynamic chunks start at multiples of it).
+constexpr int kChunk = 16;
+
 void SolvePixels(const BasisView& basis, const PixelObservations& obs,
                  const PixelSolveOptions& options, PixelSolution* solution, int first_pixel) {
   options.Check(basis);
@@ -168,8 +171,11 @@ void SolvePixels(const BasisView& basis, const PixelObservations& obs,
     RowMatrix q(obs.views, k);
     Eigen::MatrixXd y(obs.views, 3), rhs(k, 3), c(k, 3), fit(obs.views, 3);
     std::vector<std::uint8_t> used(obs.views);
-#pragma omp for schedule(dynamic, 16)
+#pragma omp for schedule(dynamic, kChunk)
     for (int t = 0; t < tiles_x * tiles_y; ++t) {
+      // Warm starts run within a chunk, whose order is fixed, never across chunks, whose
+      // assignment to threads is not: the map is the same from run to run.
+      if (t % kChunk == 0) factor.estimator.Reset();
       const int x0 = (t % tiles_x) * tile, y0 = (t / tiles_x) * tile;
       const int x1 = std::min(x0 + tile, width), y1 = std::min(y0 + tile, height);
       const int centre = std::min((y0 + y1) / 2 * width + (x0 + x1) / 2, obs.pixels - 1);

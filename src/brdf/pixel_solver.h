@@ -56,6 +56,7 @@ class ConditionEstimator {
   // the condition number of the rows (the square root of a's eigenvalue ratio).
   double Estimate(const Eigen::MatrixXd& a, const Eigen::LLT<Eigen::MatrixXd>& llt);
   int last_steps() const { return steps_; }  // power plus inverse steps of the last estimate
+  void Reset() { largest_.resize(0); }       // the next estimate starts cold
 
  private:
   Eigen::VectorXd largest_, smallest_, w_;
