@@ -109,12 +109,12 @@ def main():
                              ["--row-tile", "8"])
     flops, bandwidth = bounds()
     # Arithmetic per pixel: normal matrix n k^2, the condition number (Cholesky k^3/3, then power
-    # and inverse iteration warm-started from the previous pixel: 4.5 steps a pixel on average,
-    # measured over 512 x 512 pixels at 4 and 10 degrees, each step k^2, plus a final product:
-    # ~5.5 k^2), the ridge Cholesky k^3/3, right-hand sides 2 n k 3, solves 2 k^2 3; counted as
-    # multiply-adds x 2. Memory per pixel: observations (9 floats a view) in, the gathered rows
-    # (k floats a view, mostly cache misses), coefficients and 4 diagnostics out.
-    condition_k2 = 5.5
+    # and inverse iteration warm-started from the previous pixel: 6.4 to 6.8 steps a pixel on
+    # average, measured over 512 x 512 pixels at 4 and 10 degrees, each step k^2), the ridge
+    # Cholesky k^3/3, right-hand sides 2 n k 3, solves 2 k^2 3; counted as multiply-adds x 2.
+    # Memory per pixel: observations (9 floats a view) in, the gathered rows (k floats a view,
+    # mostly cache misses), coefficients and 4 diagnostics out.
+    condition_k2 = 6.8
     flop_px = 2 * (views * k * k + k**3 / 3 + condition_k2 * k * k + k**3 / 3
                    + 2 * views * k * 3 + 2 * k * k * 3)
     bytes_px = 4 * (9 * views + k * views + 3 * k + 4)

@@ -81,7 +81,8 @@ double ConditionEstimator::Estimate(const Eigen::MatrixXd& a,
   }
   steps_ = 0;
   double largest = 0;
-  for (int i = 0; i < kMaxSteps; ++i, ++steps_) {
+  for (int i = 0; i < kMaxSteps; ++i) {
+    ++steps_;
     w_.noalias() = a.selfadjointView<Eigen::Lower>() * largest_;
     const double q = largest_.dot(w_);
     largest_ = w_ / w_.norm();
@@ -91,7 +92,8 @@ double ConditionEstimator::Estimate(const Eigen::MatrixXd& a,
   }
   // Inverse iteration: the Rayleigh quotient of A^-1 is 1 / (the smallest eigenvalue of A).
   double inverse = 0;
-  for (int i = 0; i < kMaxSteps; ++i, ++steps_) {
+  for (int i = 0; i < kMaxSteps; ++i) {
+    ++steps_;
     w_ = llt.solve(smallest_);
     const double q = smallest_.dot(w_);
     smallest_ = w_ / w_.norm();
