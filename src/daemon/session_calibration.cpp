@@ -1,7 +1,6 @@
 #include "daemon/session_calibration.h"
 
 #include <algorithm>
-#include <cmath>
 #include <cstdio>
 #include <filesystem>
 
@@ -15,7 +14,6 @@
 #include "calib/synthetic_board.h"
 #include "core/angles.h"
 #include "core/error.h"
-#include "core/seconds_since.h"
 #include "daemon/pose_hdr.h"
 
 namespace acq {
@@ -60,13 +58,12 @@ std::vector<calib::BoardObservation> Detect(const std::map<int, PoseHdr>& poses,
   return out;
 }
 
-void Intrinsics(const Plan& plan, const std::map<int, PoseHdr>& held,
+void Intrinsics(const Plan& plan, const std::string& dir, const std::map<int, PoseHdr>& held,
                 std::vector<calib::BoardObservation> obs, SessionCalibration* c) {
-  const std::string dir = std::filesystem::path(plan.output).string();
   c->intrinsics_captures = int(held.size());
   for (const calib::BoardObservation& o : obs) c->intrinsics_found += o.found();
   if (held.empty())
-    throw UserError(plan.output, "no intrinsics captures in the session",
+    throw UserError(dir, "no intrinsics captures in the session",
                     "run acqd again with the same plan to capture them");
   const HdrImage& any = held.begin()->second.hdr;
   calib::IntrinsicsOptions options;
@@ -75,7 +72,7 @@ void Intrinsics(const Plan& plan, const std::map<int, PoseHdr>& held,
     try {
       return calib::SolveIntrinsics(any.width, any.height, BoardOf(plan), obs, options);
     } catch (const UserError& e) {
-      throw UserError(plan.output + "/calibration",
+      throw UserError(dir + "/calibration",
                       "cannot solve the intrinsics from the " + std::to_string(obs.size()) +
                           " held boards (" + std::to_string(c->intrinsics_found) +
                           " found): " + e.problem(),
@@ -107,7 +104,8 @@ calib::Pose KinematicPose(const Plan& plan, const ArmAngles& arms) {
       calib::ArmPositionInSample(arms.camera_theta, arms.camera_phi, plan.camera_distance_mm));
 }
 
-void Extrinsics(const Plan& plan, const std::string& step, const std::map<int, PoseHdr>& poses,
+void Extrinsics(const Plan& plan, const calib::BoardSpec& board, const std::string& step,
+                const std::map<int, PoseHdr>& poses,
                 const std::vector<calib::BoardObservation>& obs, SessionCalibration* c) {
   std::size_t k = 0;
   for (const auto& [pose, p] : poses) {
@@ -118,11 +116,10 @@ void Extrinsics(const Plan& plan, const std::string& step, const std::map<int, P
     r.arms = p.arms;
     r.corners = o.DetectedCorners();
     // Fewer than half the corners: too little of the board to trust the pose.
-    r.found = r.corners >= BoardOf(plan).Corners() / 2;
+    r.found = r.corners >= board.Corners() / 2;
     if (r.found) {
       const calib::Pose expected = KinematicPose(plan, p.arms);
-      const calib::ExtrinsicsResult e =
-          calib::SolveCamFromSample(c->camera, BoardOf(plan), o, expected);
+      const calib::ExtrinsicsResult e = calib::SolveCamFromSample(c->camera, board, o, expected);
       r.cam_from_sample = e.cam_from_sample;
       r.rms_px = e.rms_px;
       r.angle_from_kinematics_deg = e.angle_from_expected_deg;
@@ -176,11 +173,9 @@ SessionCalibration CalibrateSession(const Plan& plan, const SessionFrames& sessi
   std::vector<calib::BoardObservation> all;
   if (plan.intrinsics_captures > 0) {
     const std::map<int, PoseHdr> held = MergeStep("intrinsics", session, hdr_seconds);
-    const auto start = SteadyClock::now();
     const std::vector<calib::BoardObservation> obs = Detect(held, "intrinsics", board);
     all.insert(all.end(), obs.begin(), obs.end());
-    Intrinsics(plan, held, obs, &c);
-    c.seconds += SecondsSince(start);
+    Intrinsics(plan, dir, held, obs, &c);
   } else {
     c.camera = calib::CameraModel::Read(plan.intrinsics_file);
     c.intrinsics_from = plan.intrinsics_file;
@@ -189,11 +184,9 @@ SessionCalibration CalibrateSession(const Plan& plan, const SessionFrames& sessi
   for (const std::string step : {"board", "board_validation"}) {
     if (step == "board_validation" && plan.validation.empty()) continue;
     const std::map<int, PoseHdr> poses = MergeStep(step, session, hdr_seconds);
-    const auto start = SteadyClock::now();
     const std::vector<calib::BoardObservation> obs = Detect(poses, step, board);
     all.insert(all.end(), obs.begin(), obs.end());
-    Extrinsics(plan, step, poses, obs, &c);
-    c.seconds += SecondsSince(start);
+    Extrinsics(plan, board, step, poses, obs, &c);
   }
   calib::WriteCornersCache(dir + "/calibration/corners.vnl", all);
   WriteExtrinsics(c, dir + "/calibration/extrinsics.tsv");

@@ -41,7 +41,6 @@ struct SessionCalibration {
   double uncertainty_centre_px = 0, uncertainty_worst_px = 0;  // mrcal's, at the board distance
   std::vector<std::string> warnings;
   std::vector<BoardPoseResult> boards;
-  double seconds = 0;  // detection and solves (the HDR merges are counted apart)
 
   // The board step whose poses are those of `step` ("sample" -> "board", "validation" and
   // "spectralon_validation" -> "board_validation", "spectralon" -> "board").
