@@ -26,8 +26,13 @@ GridCoordinate CoordinateOf(const RusinkiewiczAngles& a) {
 bool SampleBasis(const BasisView& basis, const Eigen::Vector3d& in, const Eigen::Vector3d& out,
                  int k, RowLookup lookup, float* row, BasisSample* sample) {
   if (!(in.z() > 0 && out.z() > 0)) return false;
-  const RusinkiewiczAngles a = IsotropicAnglesFromDirections(in, out);
-  sample->cos_weight = float(merl::CosWeight({in, out}));
+  return SampleBasisAt(basis, IsotropicAnglesFromDirections(in, out), merl::CosWeight({in, out}), k,
+                       lookup, row, sample);
+}
+
+bool SampleBasisAt(const BasisView& basis, const RusinkiewiczAngles& a, double cos_weight, int k,
+                   RowLookup lookup, float* row, BasisSample* sample) {
+  sample->cos_weight = float(cos_weight);
   if (lookup == RowLookup::kNearest) {
     const std::size_t bin = merl::BinOf(a).Flat();
     if (!basis.valid[bin]) return false;

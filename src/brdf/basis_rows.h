@@ -9,6 +9,7 @@
 #include <array>
 
 #include "brdf/basis.h"
+#include "core/rusinkiewicz.h"
 
 namespace acq {
 
@@ -23,6 +24,10 @@ struct BasisSample {
 // above the horizon) into `row`. Returns false when no valid bin contributes.
 bool SampleBasis(const BasisView& basis, const Eigen::Vector3d& in, const Eigen::Vector3d& out,
                  int k, RowLookup lookup, float* row, BasisSample* sample);
+// The same from the directions' isotropic Rusinkiewicz angles and cos weight (merl::CosWeight),
+// for callers that computed them already (the batched per-pixel solve, many at once).
+bool SampleBasisAt(const BasisView& basis, const RusinkiewiczAngles& angles, double cos_weight,
+                   int k, RowLookup lookup, float* row, BasisSample* sample);
 
 // The BRDF (1/sr, RGB) that per-channel coefficients (3 x k, R then G then B) describe, at the
 // directions: x = q . c + mu, then the inverse log mapping with the true directions' cos weight.

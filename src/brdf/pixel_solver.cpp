@@ -6,6 +6,7 @@
 #include <limits>
 
 #include "brdf/log_mapping.h"
+#include "brdf/pixel_batch.h"
 #include "core/error.h"
 
 namespace acq {
@@ -155,78 +156,134 @@ struct Factor {
 // Work units handed to a thread at a time (OpenMP's dynamic chunks start at multiples of it).
 constexpr int kChunk = 16;
 
+namespace {
+
+// The one-pixel path: a pixel's solve from rows sampled into `rows` (its own, or its tile's).
+// Buffers live as long as the worker thread, so a pixel allocates nothing.
+struct OnePixel {
+  ViewRows rows;
+  Factor factor;
+  RowMatrix q;
+  Eigen::MatrixXd y, rhs, c, fit;
+  std::vector<std::uint8_t> used;
+
+  explicit OnePixel(int views, int k)
+      : q(views, k), y(views, 3), rhs(k, 3), c(k, 3), fit(views, 3), used(views) {}
+
+  // Samples the pixel's own rows first.
+  void SolveOwn(const BasisView& basis, const PixelObservations& obs, int p,
+                const PixelSolveOptions& options, PixelSolution* solution, int first_pixel) {
+    rows.Sample(basis, obs, p, options.components, options.lookup);
+    factor.views.clear();
+    Solve(obs, p, options, solution, first_pixel);
+  }
+
+  void Solve(const PixelObservations& obs, int p, const PixelSolveOptions& options,
+             PixelSolution* solution, int first_pixel) {
+    const int k = options.components;
+    int n = 0;
+    for (int v = 0; v < obs.views; ++v) {
+      const float* rgb = &obs.rgb[3 * obs.At(p, v)];
+      used[v] =
+          rows.ok[v] && std::isfinite(rgb[0]) && std::isfinite(rgb[1]) && std::isfinite(rgb[2]);
+      if (!used[v]) continue;
+      const BasisSample& s = rows.samples[v];
+      q.row(n) = rows.rows.row(v);
+      for (int ch = 0; ch < 3; ++ch) y(n, ch) = MapBrdf(rgb[ch], s.cos_weight, s.ref) - s.mean;
+      ++n;
+    }
+    const std::size_t out = std::size_t(first_pixel) + p;
+    solution->observations[out] = std::uint16_t(n);
+    float* coeff = &solution->coefficients[out * 3 * k];
+    if (n == 0) {
+      solution->valid[out] = 0;
+      solution->condition[out] = std::numeric_limits<float>::infinity();
+      return;
+    }
+    if (factor.views != used) {
+      factor.Compute(q.topRows(n), k, options.eta);
+      factor.views = used;
+    }
+    const auto qn = q.topRows(n);
+    rhs.noalias() = qn.transpose() * y.topRows(n);
+    c = factor.llt.solve(rhs);
+    fit.noalias() = qn * c;
+    const double misfit = (fit - y.topRows(n)).squaredNorm();
+    const bool finite = c.allFinite() && std::isfinite(misfit);
+    for (int ch = 0; ch < 3; ++ch)
+      for (int j = 0; j < k; ++j) coeff[ch * k + j] = finite ? float(c(j, ch)) : 0.0f;
+    solution->condition[out] = float(factor.condition);
+    solution->residual[out] = finite ? float(std::sqrt(misfit / (3.0 * n))) : 0.0f;
+    solution->valid[out] =
+        finite && n >= options.MinObservations() && factor.condition <= options.max_condition;
+  }
+};
+
+// Rows per pixel, kLanes<T> pixels a work unit (pixel_batch.h); a pixel the batch defers
+// (fewer usable observations than k) goes the one-pixel way.
+template <class T>
+void SolveInLanes(const BasisView& basis, const PixelObservations& obs,
+                  const PixelSolveOptions& options, PixelSolution* solution, int first_pixel) {
+  constexpr int kWidth = PixelBatch<T>::kWidth;
+  const int units = (obs.pixels + kWidth - 1) / kWidth;
+#pragma omp parallel
+  {
+    PixelBatch<T> batch;
+    OnePixel one(obs.views, options.components);
+#pragma omp for schedule(dynamic, kChunk)
+    for (int t = 0; t < units; ++t) {
+      if (t % kChunk == 0) {  // warm starts within a chunk only: see SolvePixels
+        batch.ColdStart();
+        one.factor.estimator.Reset();
+      }
+      const int first = t * kWidth, count = std::min(kWidth, obs.pixels - first);
+      batch.Load(basis, obs, first, count, options.components, options.lookup);
+      for (int l = 0; l < count; ++l)
+        if (batch.Deferred(l)) one.SolveOwn(basis, obs, first + l, options, solution, first_pixel);
+      batch.Solve(options, solution, std::size_t(first_pixel) + first);
+    }
+  }
+}
+
+}  // namespace
+
 void SolvePixels(const BasisView& basis, const PixelObservations& obs,
                  const PixelSolveOptions& options, PixelSolution* solution, int first_pixel) {
   options.Check(basis);
   const int k = options.components;
-  const int min_obs = options.MinObservations();
   // Work units: single pixels, or tiles of row_tile x row_tile pixels that share the rows of
   // their centre pixel (the band's width says where rows of pixels wrap).
   const int tile = obs.width > 0 ? options.row_tile : 1;
+  if (tile == 1 && options.kernel == PixelKernel::kLanesDouble)
+    return SolveInLanes<double>(basis, obs, options, solution, first_pixel);
+  if (tile == 1 && options.kernel == PixelKernel::kLanesSingle)
+    return SolveInLanes<float>(basis, obs, options, solution, first_pixel);
   const int width = obs.width > 0 ? obs.width : obs.pixels;
   const int height = (obs.pixels + width - 1) / width;
   const int tiles_x = (width + tile - 1) / tile, tiles_y = (height + tile - 1) / tile;
 #pragma omp parallel
   {
-    ViewRows shared;
-    Factor factor;
-    RowMatrix q(obs.views, k);
-    Eigen::MatrixXd y(obs.views, 3), rhs(k, 3), c(k, 3), fit(obs.views, 3);
-    std::vector<std::uint8_t> used(obs.views);
+    OnePixel one(obs.views, k);
 #pragma omp for schedule(dynamic, kChunk)
     for (int t = 0; t < tiles_x * tiles_y; ++t) {
       // Warm starts run within a chunk, whose order is fixed, never across chunks, whose
       // assignment to threads is not: the map is the same from run to run.
-      if (t % kChunk == 0) factor.estimator.Reset();
+      if (t % kChunk == 0) one.factor.estimator.Reset();
       const int x0 = (t % tiles_x) * tile, y0 = (t / tiles_x) * tile;
       const int x1 = std::min(x0 + tile, width), y1 = std::min(y0 + tile, height);
       const int centre = std::min((y0 + y1) / 2 * width + (x0 + x1) / 2, obs.pixels - 1);
-      if (tile > 1) shared.Sample(basis, obs, centre, k, options.lookup);
-      factor.views.clear();
+      if (tile > 1) {
+        one.rows.Sample(basis, obs, centre, k, options.lookup);
+        one.factor.views.clear();
+      }
       for (int py = y0; py < y1; ++py) {
         for (int px = x0; px < x1; ++px) {
           const int p = py * width + px;
           if (p >= obs.pixels) continue;
-          if (tile == 1) {
-            shared.Sample(basis, obs, p, k, options.lookup);
-            factor.views.clear();
-          }
-          int n = 0;
-          for (int v = 0; v < obs.views; ++v) {
-            const float* rgb = &obs.rgb[3 * obs.At(p, v)];
-            used[v] = shared.ok[v] && std::isfinite(rgb[0]) && std::isfinite(rgb[1]) &&
-                      std::isfinite(rgb[2]);
-            if (!used[v]) continue;
-            const BasisSample& s = shared.samples[v];
-            q.row(n) = shared.rows.row(v);
-            for (int ch = 0; ch < 3; ++ch)
-              y(n, ch) = MapBrdf(rgb[ch], s.cos_weight, s.ref) - s.mean;
-            ++n;
-          }
-          const std::size_t out = std::size_t(first_pixel) + p;
-          solution->observations[out] = std::uint16_t(n);
-          float* coeff = &solution->coefficients[out * 3 * k];
-          if (n == 0) {
-            solution->valid[out] = 0;
-            solution->condition[out] = std::numeric_limits<float>::infinity();
-            continue;
-          }
-          if (factor.views != used) {
-            factor.Compute(q.topRows(n), k, options.eta);
-            factor.views = used;
-          }
-          const auto qn = q.topRows(n);
-          rhs.noalias() = qn.transpose() * y.topRows(n);
-          c = factor.llt.solve(rhs);
-          fit.noalias() = qn * c;
-          const double misfit = (fit - y.topRows(n)).squaredNorm();
-          const bool finite = c.allFinite() && std::isfinite(misfit);
-          for (int ch = 0; ch < 3; ++ch)
-            for (int j = 0; j < k; ++j) coeff[ch * k + j] = finite ? float(c(j, ch)) : 0.0f;
-          solution->condition[out] = float(factor.condition);
-          solution->residual[out] = finite ? float(std::sqrt(misfit / (3.0 * n))) : 0.0f;
-          solution->valid[out] =
-              finite && n >= min_obs && factor.condition <= options.max_condition;
+          if (tile == 1)
+            one.SolveOwn(basis, obs, p, options, solution, first_pixel);
+          else
+            one.Solve(obs, p, options, solution, first_pixel);
         }
       }
     }

@@ -63,6 +63,13 @@ class ConditionEstimator {
   int steps_ = 0;
 };
 
+// How rows-per-pixel solves run (row_tile 1): the same algorithm either way.
+enum class PixelKernel {
+  kLanesDouble,  // 8 pixels at a time across SIMD lanes, float64 (pixel_batch.h); the default
+  kLanesSingle,  // 16 at a time, float32: the precision trade-off, charted in the benchmark
+  kOnePixel,     // one pixel at a time with Eigen's dynamic-size routines (the reference)
+};
+
 struct PixelSolveOptions {
   int components = 20;  // k
   double eta = 40.0;
@@ -78,6 +85,7 @@ struct PixelSolveOptions {
   // (tools/bench_reconstruction_tradeoffs.py: within 0.1%, about 9x faster;
   // docs/reconstruction.md).
   int row_tile = 8;
+  PixelKernel kernel = PixelKernel::kLanesDouble;
   void Check(const BasisView& basis) const;  // throws UserError
   int MinObservations() const {
     return min_observations > 0 ? min_observations : (components + 1) / 2;

@@ -24,6 +24,14 @@ RowLookup LookupFrom(const Args& args) {
   throw UserError("--lookup", "must be 'nearest' or 'interpolated', got '" + l + "'");
 }
 
+PixelKernel KernelFrom(const Args& args) {
+  const std::string k = args.Get("kernel", "lanes");
+  if (k == "lanes") return PixelKernel::kLanesDouble;
+  if (k == "lanes-single") return PixelKernel::kLanesSingle;
+  if (k == "one-pixel") return PixelKernel::kOnePixel;
+  throw UserError("--kernel", "must be 'lanes', 'lanes-single' or 'one-pixel', got '" + k + "'");
+}
+
 void ParseSize(const std::string& s, int* w, int* h) {
   if (std::sscanf(s.c_str(), "%dx%d", w, h) != 2 || *w < 1 || *h < 1 || *w > 65536 || *h > 65536)
     throw UserError("--size", "expected WIDTHxHEIGHT in pixels, got '" + s + "'",
@@ -34,10 +42,10 @@ void ParseSize(const std::string& s, int* w, int* h) {
 
 int ReconstructSynthetic(const Argv& argv) {
   std::set<std::string> valued = {
-      "basis",   "directions", "materials",        "materials-dir", "size",
-      "k",       "eta",        "lookup",           "band-rows",     "noise",
-      "seed",    "o",          "min-observations", "max-condition", "dump",
-      "row-tile"};
+      "basis",    "directions", "materials",        "materials-dir", "size",
+      "k",        "eta",        "lookup",           "band-rows",     "noise",
+      "seed",     "o",          "min-observations", "max-condition", "dump",
+      "row-tile", "kernel"};
   valued.insert(kGeometryOptions.begin(), kGeometryOptions.end());
   const Args args("acq reconstruct synthetic", argv, valued,
                   {"ignore-near-field", "truth-tables", "score", "quiet"});
@@ -89,6 +97,7 @@ int ReconstructSynthetic(const Argv& argv) {
   r.solve.max_condition = args.GetDouble("max-condition", r.solve.max_condition);
   r.band_rows = args.GetInt("band-rows", r.band_rows);
   r.solve.row_tile = args.GetInt("row-tile", r.solve.row_tile);
+  r.solve.kernel = KernelFrom(args);
   r.progress = !args.Has("quiet");
   SvbrdfMapInfo info;
   info.basis = basis_path;

@@ -12,11 +12,6 @@ int ClampIndex(int i, int n) {
   return std::clamp(i, 0, n - 1);
 }
 
-// A value this close below a bin edge (in index units) counts as on the edge: angles that went
-// through a direction-vector round trip come back 1e-15 short of values like 30 degrees that
-// sit exactly on an edge, and must land where the angle says. At most 1e-9 of a bin differs
-// from MERL's reader.
-constexpr double kEdgeSlack = 1e-9;
 int IndexOf(double x, int n) {
   return ClampIndex(int(x + kEdgeSlack), n);
 }

@@ -33,6 +33,12 @@ struct BinIndex {
   bool operator==(const BinIndex&) const = default;
 };
 
+// A value this close below a bin edge (in index units) counts as on the edge: angles that went
+// through a direction-vector round trip come back 1e-15 short of values like 30 degrees that
+// sit exactly on an edge, and must land where the angle says. At most 1e-9 of a bin differs
+// from MERL's reader.
+constexpr double kEdgeSlack = 1e-9;
+
 int ThetaHIndex(double theta_h);
 int ThetaDIndex(double theta_d);
 int PhiDIndex(double phi_d);  // accepts any phi_d in [-pi, pi]; folds by reciprocity
