@@ -101,8 +101,8 @@ TEST_CASE("bins computed in SIMD lanes equal BinOf", "[merl][lanes]") {
   for (int i = 0; i < 40000; ++i) {
     const double t1 = std::acos(u(rng)), p1 = 2 * kPi * u(rng);
     const double t2 = std::acos(u(rng)), p2 = 2 * kPi * u(rng);
-    angles.push_back(IsotropicAnglesFromDirections(SphericalDirection(t1, p1),
-                                                  SphericalDirection(t2, p2)));
+    angles.push_back(
+        IsotropicAnglesFromDirections(SphericalDirection(t1, p1), SphericalDirection(t2, p2)));
   }
   for (int b = 0; b < 90; ++b) {
     angles.push_back(BinCentre({b, b, 2 * b}));

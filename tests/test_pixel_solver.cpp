@@ -526,20 +526,19 @@ TEST_CASE("pixels solved in SIMD lanes equal pixels solved one at a time", "[pix
       // matrix's condition number, the square, nears 1 / float32's epsilon): compared below 1e3.
       if (std::isfinite(one.condition[i]) && (!single || one.condition[i] < 1e3))
         worst_condition =
-            std::max(worst_condition, double(std::abs(lanes.condition[i] - one.condition[i]) /
-                                             one.condition[i]));
+            std::max(worst_condition,
+                     double(std::abs(lanes.condition[i] - one.condition[i]) / one.condition[i]));
       if (!std::isfinite(one.condition[i])) REQUIRE(std::isinf(lanes.condition[i]));
-      worst_residual =
-          std::max(worst_residual, double(std::abs(lanes.residual[i] - one.residual[i]) /
-                                          std::max(one.residual[i], 1e-6f)));
+      worst_residual = std::max(
+          worst_residual,
+          double(std::abs(lanes.residual[i] - one.residual[i]) / std::max(one.residual[i], 1e-6f)));
       valid_differ += lanes.valid[i] != one.valid[i];
     }
     WARN((single ? "float32" : "float64")
          << " lanes against one pixel at a time: coefficients of the " << coeff_diff.size()
-         << " pixels solved in lanes median " << Median(coeff_diff)
-         << ", worst " << worst_coeff << " (relative); condition worst " << worst_condition
-         << "; residual worst " << worst_residual << "; validity differs at " << valid_differ
-         << " of " << obs.pixels);
+         << " pixels solved in lanes median " << Median(coeff_diff) << ", worst " << worst_coeff
+         << " (relative); condition worst " << worst_condition << "; residual worst "
+         << worst_residual << "; validity differs at " << valid_differ << " of " << obs.pixels);
     if (!single) {
       // The same arithmetic in another order and with fused multiply-adds: the coefficients
       // are stored as float32 (6e-8) and the ridge solve is well conditioned (eta = 40), so

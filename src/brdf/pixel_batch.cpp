@@ -19,6 +19,21 @@ Lanes<T> Abs(Lanes<T> x) {
   return x < T(0) ? -x : x;
 }
 
+// sum_m a[m] b[m], m < n, for kColumns vectors b_c = b + c * stride at once, in four partial
+// sums each: a single running sum would make every multiply-add wait for the previous one
+// (four cycles of latency), which is what bounded the factorisations and solves.
+template <int kColumns, class V>
+[[gnu::always_inline]] inline void Dots(const V* a, const V* b, std::size_t stride, int n, V* out) {
+  V acc[kColumns][4] = {};
+  int m = 0;
+  for (; m + 4 <= n; m += 4)
+    for (int c = 0; c < kColumns; ++c)
+      for (int u = 0; u < 4; ++u) acc[c][u] += a[m + u] * b[c * stride + m + u];
+  for (; m < n; ++m)
+    for (int c = 0; c < kColumns; ++c) acc[c][0] += a[m] * b[c * stride + m];
+  for (int c = 0; c < kColumns; ++c) out[c] = (acc[c][0] + acc[c][1]) + (acc[c][2] + acc[c][3]);
+}
+
 }  // namespace
 
 // The conversion is IsotropicAnglesFromDirections (core/rusinkiewicz.cpp) in lanes, step for
@@ -106,9 +121,9 @@ void PixelBatch<T>::Factorise(T eta, M* ok) {
   for (int i = 0; i < k; ++i) {
     const V* li = &factor_[Packed(i, 0)];
     for (int j = 0; j <= i; ++j) {
-      const V* lj = &factor_[Packed(j, 0)];
-      V s = normal_[Packed(i, j)];
-      for (int m = 0; m < j; ++m) s -= li[m] * lj[m];
+      V dot;
+      Dots<1>(li, &factor_[Packed(j, 0)], 0, j, &dot);
+      V s = normal_[Packed(i, j)] - dot;
       if (i == j) {
         s += eta;
         *ok &= s > T(0);
@@ -122,19 +137,25 @@ void PixelBatch<T>::Factorise(T eta, M* ok) {
   }
 }
 
+// Columns x_c = x + c * stride, solved together so each element of the factor is loaded once
+// for all of them.
 template <class T>
-void PixelBatch<T>::SolveFactor(V* x) const {
+template <int kColumns>
+void PixelBatch<T>::SolveFactor(V* x, std::size_t stride) const {
   const int k = k_;
   for (int i = 0; i < k; ++i) {  // L z = x
     const V* li = &factor_[Packed(i, 0)];
-    V s = x[i];
-    for (int m = 0; m < i; ++m) s -= li[m] * x[m];
-    x[i] = s * inv_diag_[i];
+    V dot[kColumns];
+    Dots<kColumns>(li, x, stride, i, dot);
+    for (int c = 0; c < kColumns; ++c)
+      x[c * stride + i] = (x[c * stride + i] - dot[c]) * inv_diag_[i];
   }
   for (int i = k - 1; i >= 0; --i) {  // L^T x = z, a column of L^T being a row of L
     const V* li = &factor_[Packed(i, 0)];
-    x[i] *= inv_diag_[i];
-    for (int m = 0; m < i; ++m) x[m] -= li[m] * x[i];
+    V xi[kColumns];
+    for (int c = 0; c < kColumns; ++c) xi[c] = x[c * stride + i] *= inv_diag_[i];
+    for (int m = 0; m < i; ++m)
+      for (int c = 0; c < kColumns; ++c) x[c * stride + m] -= li[m] * xi[c];
   }
 }
 
@@ -151,6 +172,11 @@ void PixelBatch<T>::EstimateCondition(M skip, V* condition) {
     smallest_ = largest_;
   }
   w_.resize(k);
+  // The normal matrix in full for the power iteration's products, row by row.
+  square_.resize(std::size_t(k) * k);
+  for (int i = 0; i < k; ++i)
+    for (int j = 0; j <= i; ++j)
+      square_[std::size_t(i) * k + j] = square_[std::size_t(j) * k + i] = normal_[Packed(i, j)];
   steps_ = 0;
   V quotient[2];
   for (int pass = 0; pass < 2; ++pass) {
@@ -159,23 +185,15 @@ void PixelBatch<T>::EstimateCondition(M skip, V* condition) {
     V q_prev{};
     for (int step = 0; step < kMaxSteps && Any<T>(~done); ++step) {
       ++steps_;
-      if (pass == 0) {  // w = A x, A symmetric from its lower triangle
-        std::fill(w_.begin(), w_.end(), V{});
-        for (int i = 0; i < k; ++i) {
-          const V* ai = &normal_[Packed(i, 0)];
-          V s = ai[i] * x[i];
-          for (int j = 0; j < i; ++j) {
-            s += ai[j] * x[j];
-            w_[j] += ai[j] * x[i];
-          }
-          w_[i] += s;
-        }
+      if (pass == 0) {  // w = A x
+        for (int i = 0; i < k; ++i) Dots<1>(&square_[std::size_t(i) * k], x.data(), 0, k, &w_[i]);
       } else {  // w = A^-1 x
         std::copy(x.begin(), x.end(), w_.begin());
-        SolveFactor(w_.data());
+        SolveFactor<1>(w_.data(), 0);
       }
-      V q{}, norm2{};
-      for (int i = 0; i < k; ++i) q += x[i] * w_[i], norm2 += w_[i] * w_[i];
+      V q, norm2;
+      Dots<1>(x.data(), w_.data(), 0, k, &q);
+      Dots<1>(w_.data(), w_.data(), 0, k, &norm2);
       const V inv_norm = T(1) / Sqrt<T>(norm2);
       for (int i = 0; i < k; ++i) x[i] = done ? x[i] : w_[i] * inv_norm;
       const M settled = step > 0 ? Abs<T>(q - q_prev) <= settled_tolerance * q : M{};
@@ -237,7 +255,7 @@ void PixelBatch<T>::Solve(const PixelSolveOptions& options, PixelSolution* solut
     for (int a = 0; a < kBlock && c0 + a < k; ++a)
       for (int ch = 0; ch < 3; ++ch) rhs_[std::size_t(ch) * k + c0 + a] = acc[a][ch];
   }
-  for (int ch = 0; ch < 3; ++ch) SolveFactor(&rhs_[std::size_t(ch) * k]);
+  SolveFactor<3>(rhs_.data(), std::size_t(k));
   // The misfit at the observations, 4 views at a time (zero rows add nothing).
   V misfit{};
   for (int v0 = 0; v0 < n; v0 += kBlock) {

@@ -42,7 +42,9 @@ class PixelBatch {
   using V = Lanes<T>;
   using M = LaneMask<T>;
   void Factorise(T eta, M* ok);  // factor_ = Cholesky of normal_ + eta I, lower, packed by rows
-  void SolveFactor(V* x) const;  // x <- (L L^T)^-1 x
+  // Columns x + c * stride, c < kColumns: x <- (L L^T)^-1 x with factor_ = L.
+  template <int kColumns>
+  void SolveFactor(V* x, std::size_t stride) const;
   void EstimateCondition(M skip, V* condition);
 
   static constexpr int kBlock = 4;  // register blocks of the products: 4 x 4 lanes vectors
@@ -51,7 +53,8 @@ class PixelBatch {
   std::vector<V> rows_;  // views x stride_: the basis rows, zero where the observation is unusable
   std::vector<V> y_;     // views x 3: the log-mapped observations less the mean, or zero
   std::vector<V> normal_;                  // k (k + 1) / 2: Q^T Q, lower triangle packed by rows
-  std::vector<V> factor_;                  // the same shape: a Cholesky factor
+  std::vector<V> square_;                  // k x k: Q^T Q in full, for the power iteration
+  std::vector<V> factor_;                  // the same shape as normal_: a Cholesky factor
   std::vector<V> inv_diag_;                // k: 1 / the factor's diagonal
   std::vector<V> largest_, smallest_, w_;  // k: warm starts of the condition estimate
   std::vector<V> rhs_;                     // 3 x k
