@@ -7,7 +7,8 @@ and writes out/bench/reconstruction/{throughput.csv,throughput.png}.
   /usr/bin/python3 tools/bench_reconstruction.py [--size 256] [--build build]
 
 n = 20 views (the seed's directions), k = 20, three channels, nearest rows, 4 degree field of
-view. The numpy version computes what ours does: per-pixel Rusinkiewicz bins, rows, mean,
+view. Ours in each of its kernels (float64 SIMD lanes, the default; float32 lanes; one pixel at a
+time with Eigen) and with rows shared by 8 x 8 tiles, each the median of three runs. The numpy version computes what ours does: per-pixel Rusinkiewicz bins, rows, mean,
 reference and cos weight, the log mapping, the normal matrices, their eigenvalues (condition
 number) and the ridge solve; its coefficients are checked against ours."""
 import argparse
@@ -66,14 +67,19 @@ def numpy_solve(light, camera, rgb, basis, k, eta):
     return coeff.transpose(0, 2, 1), cond
 
 
-def bounds():
-    """Achievable float64 GEMM rate and memory bandwidth on this machine, measured with numpy."""
-    a = np.random.rand(2000, 2000)
+def gemm_rate(dtype):
+    a = np.random.rand(2000, 2000).astype(dtype)
     a @ a
     t = time.perf_counter()
     for _ in range(3):
         a @ a
-    flops = 3 * 2 * 2000**3 / (time.perf_counter() - t)
+    return 3 * 2 * 2000**3 / (time.perf_counter() - t)
+
+
+def bounds():
+    """Achievable float64 and float32 GEMM rates and memory bandwidth on this machine, measured
+    with numpy."""
+    flops = gemm_rate(np.float64), gemm_rate(np.float32)
     big = np.ones(50_000_000)
     dst = np.zeros_like(big)  # touched first, so the timing sees copies, not page faults
     t = time.perf_counter()
@@ -85,15 +91,17 @@ def bounds():
 
 def main():
     ap = argparse.ArgumentParser()
-    add_common_options(ap, 256)
+    add_common_options(ap, 512)
     a = ap.parse_args()
     acq = acq_from(a)
     dump = os.path.join(a.out, "dump")
+    def median_time(extra):
+        return float(np.median([reconstruct(acq, a.basis, a.size, 4, os.path.join(a.out, "map.exr"),
+                                            extra)[0] for _ in range(3)]))
     reconstruct(acq, a.basis, a.size, 4, os.path.join(a.out, "map.exr"),
                 ["--row-tile", "1", "--dump", dump])
     meta = dict(line.split() for line in open(os.path.join(dump, "dump.txt")))
     pixels, views, k, eta = int(meta["pixels"]), int(meta["views"]), int(meta["k"]), float(meta["eta"])
-    ours_s = float(meta["solve_seconds"])
     light = np.fromfile(os.path.join(dump, "light.f32"), np.float32).reshape(pixels, views, 3).astype(np.float64)
     camera = np.fromfile(os.path.join(dump, "camera.f32"), np.float32).reshape(pixels, views, 3).astype(np.float64)
     rgb = np.fromfile(os.path.join(dump, "rgb.f32"), np.float32).reshape(pixels, views, 3).astype(np.float64)
@@ -104,10 +112,12 @@ def main():
     numpy_s = time.perf_counter() - t
     # Same answer? Relative difference of coefficient vectors (float32 storage on our side).
     diff = np.linalg.norm(coeff - ours, axis=-1) / np.maximum(np.linalg.norm(ours, axis=-1), 1e-12)
+    ours_s = median_time(["--row-tile", "1"])
+    single_s = median_time(["--row-tile", "1", "--kernel", "lanes-single"])
+    one_pixel_s = median_time(["--row-tile", "1", "--kernel", "one-pixel"])
     # The same scene with rows shared by 8 x 8 tiles (one factorisation a tile).
-    tiled_s, _ = reconstruct(acq, a.basis, a.size, 4, os.path.join(a.out, "map8.exr"),
-                             ["--row-tile", "8"])
-    flops, bandwidth = bounds()
+    tiled_s = median_time(["--row-tile", "8"])
+    (flops, flops32), bandwidth = bounds()
     # Arithmetic per pixel: normal matrix n k^2, the condition number (Cholesky k^3/3, then power
     # and inverse iteration warm-started from the previous pixel: 6.4 to 6.8 steps a pixel on
     # average, measured over 512 x 512 pixels at 4 and 10 degrees, each step k^2), the ridge
@@ -119,18 +129,29 @@ def main():
                    + 2 * views * k * 3 + 2 * k * k * 3)
     bytes_px = 4 * (9 * views + k * views + 3 * k + 4)
     mp = pixels / 1e6
-    rows = [("acq, rows per pixel", mp / ours_s), ("acq, rows per 8x8 tile", mp / tiled_s),
+    rows = [("acq, rows per pixel, float64 lanes", mp / ours_s),
+            ("acq, rows per pixel, float32 lanes", mp / single_s),
+            ("acq, rows per pixel, one at a time", mp / one_pixel_s),
+            ("acq, rows per 8x8 tile", mp / tiled_s),
             ("numpy (vectorised)", mp / numpy_s),
-            ("arithmetic bound", flops / flop_px / 1e6), ("memory bound", bandwidth / bytes_px / 1e6)]
+            ("arithmetic bound, float64", flops / flop_px / 1e6),
+            ("arithmetic bound, float32", flops32 / flop_px / 1e6),
+            ("memory bound", bandwidth / bytes_px / 1e6)]
+    value = dict(rows)
     print(f"{pixels} pixels, {views} views, k = {k}: coefficient agreement with numpy: median "
           f"{np.median(diff):.2e}, 99th percentile {np.percentile(diff, 99):.2e}")
-    print(f"measured machine: {flops / 1e9:.1f} GFLOP/s (float64 GEMM), {bandwidth / 1e9:.1f} GB/s (copy)")
+    print(f"measured machine: {flops / 1e9:.1f} GFLOP/s float64 GEMM, {flops32 / 1e9:.1f} float32; "
+          f"{bandwidth / 1e9:.1f} GB/s (copy)")
     print(f"per pixel: {flop_px / 1e3:.1f} kflop, {bytes_px / 1e3:.2f} kB")
     for name, v in rows:
-        print(f"{name:<24} {v:8.3f} megapixels/s")
-    print(f"acq per pixel / numpy: {rows[0][1] / rows[2][1]:.1f}x; acq per pixel is "
-          f"{min(rows[3][1], rows[4][1]) / rows[0][1]:.1f}x below the tighter bound (which is for "
-          f"per-pixel work; tiles do less work a pixel)")
+        print(f"{name:<36} {v:8.3f} megapixels/s")
+    ours = value["acq, rows per pixel, float64 lanes"]
+    bound = min(value["arithmetic bound, float64"], value["memory bound"])
+    bound32 = min(value["arithmetic bound, float32"], value["memory bound"])
+    print(f"acq per pixel (float64 lanes) / numpy: {ours / value['numpy (vectorised)']:.1f}x; "
+          f"{bound / ours:.1f}x below the tighter float64 bound; float32 lanes "
+          f"{bound32 / value['acq, rows per pixel, float32 lanes']:.1f}x below the float32 bound "
+          f"(bounds are for per-pixel work; tiles do less work a pixel)")
     with open(os.path.join(a.out, "throughput.csv"), "w", newline="") as f:
         w = csv.writer(f)
         w.writerow(["implementation", "megapixels_per_s"])
@@ -138,9 +159,9 @@ def main():
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-    fig, ax = plt.subplots(figsize=(7, 3.8))
+    fig, ax = plt.subplots(figsize=(8, 4.6))
     ax.barh([r[0] for r in rows][::-1], [r[1] for r in rows][::-1],
-            color=["tab:red", "tab:red", "tab:gray", "tab:blue", "tab:blue"][::-1])
+            color=(["tab:red"] * 4 + ["tab:gray"] + ["tab:blue"] * 3)[::-1])
     ax.set_xscale("log")
     ax.set_xlabel("megapixels per second (log scale)")
     ax.set_title(f"Per-pixel reconstruction, n = {views}, k = {k}, 3 channels, 2 cores")

@@ -71,7 +71,7 @@ struct Plan {
   int components = 20;
   double eta = 40;
   RowLookup lookup = RowLookup::kNearest;
-  int row_tile = 8;
+  int row_tile = 1;  // PixelSolveOptions::row_tile
 };
 
 // Reads and validates; throws UserError ("plan.yaml:12:5: ...") at the first problem. Checks

@@ -26,7 +26,7 @@ void ReconstructionReport::Print() const {
       "  not valid: %ld with no usable observation, %ld with too few observations, %ld "
       "poorly conditioned\n",
       no_observation, too_few_observations, poorly_conditioned);
-  std::printf("time: %.2f s solving, %.2f s in all: %.3f megapixels/s\n", solve_seconds,
+  std::printf("time: %.3f s solving, %.2f s in all: %.3f megapixels/s\n", solve_seconds,
               total_seconds, total_seconds > 0 ? double(pixels) / total_seconds / 1e6 : 0.0);
 }
 

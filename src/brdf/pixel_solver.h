@@ -81,10 +81,11 @@ struct PixelSolveOptions {
   // 1: every pixel its own rows (exact near field). T > 1: the pixels of each T x T tile share
   // the rows, mean, reference and cos weight at the tile centre's directions, and one
   // factorisation: T^2 times fewer, at the cost of the near-field error within a tile.
-  // Default 8: the cheapest setting within 0.5% of the exact error at 4 and 10 degrees
-  // (tools/bench_reconstruction_tradeoffs.py: within 0.1%, about 9x faster;
-  // docs/reconstruction.md).
-  int row_tile = 8;
+  // Default 1, the exact model: since the solves run in SIMD lanes, tiles that stay within 0.5%
+  // of its error (8 x 8 and smaller; 16 leaves it at 4 degrees) save no time worth the name
+  // (tools/bench_reconstruction_tradeoffs.py; at 1024 x 1024: 0.80-0.87 s per pixel, 0.80-0.82
+  // s in 8 x 8 tiles; docs/reconstruction.md).
+  int row_tile = 1;
   PixelKernel kernel = PixelKernel::kLanesDouble;
   void Check(const BasisView& basis) const;  // throws UserError
   int MinObservations() const {

@@ -71,7 +71,7 @@ const std::map<std::string, Command>& Commands() {
         "    [--materials NAME,...] [--materials-dir data/nbrdf/merl] [--fov-deg 4]\n"
         "    [--camera-distance-mm 1000] [--light-distance-mm 1000] [--k 20] [--eta 40]\n"
         "    [--lookup nearest|interpolated] [--band-rows 64] [--noise 0] [--seed 1]\n"
-        "    [--ignore-near-field] [--truth-tables] [--score] [--row-tile 8] [--dump DIR]\n"
+        "    [--ignore-near-field] [--truth-tables] [--score] [--row-tile 1] [--dump DIR]\n"
         "    [--kernel lanes|lanes-single|one-pixel]\n"
         "  Reconstructs a synthetic printed card from observations made straight from the\n"
         "  ground truth, per pixel, into an SVBRDF map (docs/svbrdf-map.md); --score compares\n"
