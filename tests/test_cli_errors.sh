@@ -101,7 +101,7 @@ expect_error "bad image size" "--size" "WIDTHxHEIGHT" -- \
   --materials-dir "$data/nbrdf/merl" --size 16by16 --k 3 -o "$tmp/x.exr"
 expect_error "band not a multiple of the tile" "--band-rows" "multiple of --row-tile" -- \
   "$acq" reconstruct synthetic --basis "$tmp/three.acqb" --directions "$data/directions/seed_directions_20.tsv" \
-  --materials-dir "$data/nbrdf/merl" --materials brass --size 16x16 --k 3 --band-rows 12 -o "$tmp/x.exr"
+  --materials-dir "$data/nbrdf/merl" --materials brass --size 16x16 --k 3 --row-tile 8 --band-rows 12 -o "$tmp/x.exr"
 expect_error "render a file that is not a map" "below.tsv" "cannot read the SVBRDF map" -- \
   "$acq" render quicklook --map "$tmp/below.tsv" -o "$tmp/q"
 expect_error "render with another basis" "one.acqb" "checksum differs" -- \
