@@ -8,6 +8,7 @@
 // - acqctl status is asked all through the run and must answer during motion, capture and
 //   processing; its latency is printed.
 // - The recorded session is replayed through acqd (backend replay): the same frames, the same map.
+// - A session with the lens calibrated before (calibration.camera_model, no held boards).
 // - acqd is killed with SIGKILL at three points and resumed: every frame exactly once, each
 //   whole, and the same outputs as the uninterrupted run up to the sensor's noise.
 #include <catch2/catch.hpp>
@@ -325,6 +326,33 @@ TEST_CASE("session: a whole simulated session, scored; kill -9 and resume give t
       CHECK(replayed.planes[c] == recorded.planes[c]);
     CHECK(JsonNumbers(ReadText(base + "/replayed/session/report.json"), "relative_rms") ==
           JsonNumbers(report, "relative_rms"));
+  }
+
+  // A lens calibrated before: `calibration.camera_model` names the uninterrupted run's model, so
+  // no board is held up; the boards on the sample plane still give every view its pose.
+  {
+    const std::string model = base + "/whole/session/calibration/camera.cameramodel";
+    std::string text = ReadText(WritePlan(base + "/given", basis));
+    const std::string captures = "intrinsics_captures: 8";
+    text.replace(text.find(captures), captures.size(), "camera_model: " + model);
+    std::ofstream(base + "/given/plan.yaml") << text;
+    REQUIRE(Wait(StartAcqd(base + "/given/plan.yaml", socket)) == 0);
+    SessionCatalog catalog(base + "/given/session");
+    CHECK(catalog.VerifyAndRepair().verified == 92 + 23);
+    CHECK_FALSE(catalog.StepDone("intrinsics"));
+    const std::string given = ReadText(base + "/given/session/report.json");
+    CHECK(given.find("\"intrinsics_from\": \"" + model + "\"") != std::string::npos);
+    CHECK(JsonNumber(given, "board_poses_found") == 23);
+    const double given_median = JsonNumber(given, "median_log_rmse");
+    WARN("with the uninterrupted run's camera model: misalignment median "
+         << JsonNumber(given, "alignment_median_px") << " px, worst "
+         << JsonNumber(given, "alignment_max_px") << " px; median log-space RMSE " << given_median
+         << " (" << median << " uninterrupted)");
+    // The same bounds as the run that calibrated the lens (above), and the same map up to the
+    // sensor's noise (3%, as for the resumed run below).
+    CHECK(JsonNumber(given, "alignment_median_px") < 0.5);
+    CHECK(JsonNumber(given, "alignment_max_px") < 1.5);
+    CHECK(given_median == Approx(median).epsilon(0.03));
   }
 
   // Killed at three points of the capture (a third, half, and most of the way), resumed each
