@@ -76,6 +76,18 @@ TEST_CASE("catalog: frames recorded once, steps, damaged and unrecorded files re
     const std::string other = FrameBytes(1);
     WriteFileAtomically(dir + "/" + FramePath(1), other.data(), other.size());
     catalog.RecordFrame({"sample", 1, 1000, FramePath(1), "", 0});
+    // One pose's frames, by query: another exposure of pose 0, and another step's pose 0.
+    WriteFileAtomically(dir + "/frames/long.raw", bytes.data(), bytes.size());
+    catalog.RecordFrame({"sample", 0, 8000, "frames/long.raw", "", 0});
+    WriteFileAtomically(dir + "/frames/white.raw", bytes.data(), bytes.size());
+    catalog.RecordFrame({"spectralon", 0, 1000, "frames/white.raw", "", 0});
+    const std::vector<CatalogFrame> pose0 = catalog.FramesOf("sample", 0);
+    REQUIRE(pose0.size() == 2);
+    CHECK(pose0[0].exposure_us == 1000);  // in recording order
+    CHECK(pose0[1].path == "frames/long.raw");
+    CHECK(catalog.FramesOf("sample", 1).size() == 1);
+    CHECK(catalog.FramesOf("spectralon", 0).size() == 1);
+    CHECK(catalog.FramesOf("sample", 2).empty());
   }
   // Damage one recorded frame and leave an unrecorded one (a crash after the rename).
   {
@@ -88,12 +100,12 @@ TEST_CASE("catalog: frames recorded once, steps, damaged and unrecorded files re
   }
   SessionCatalog reopened(dir);
   const SessionCatalog::Repair r = reopened.VerifyAndRepair();
-  CHECK(r.verified == 1);
+  CHECK(r.verified == 3);
   REQUIRE(r.bad.size() == 1);
   CHECK(r.bad[0] == FramePath(1));
   REQUIRE(r.orphans.size() == 1);
   CHECK(r.orphans[0] == fs::path(FramePath(2)).filename().string());
-  CHECK(reopened.Frames().size() == 1);
+  CHECK(reopened.Frames().size() == 3);
   CHECK(reopened.StepDone("sample"));
 }
 

@@ -292,8 +292,7 @@ int Run(int argc, char** argv) {
     BackgroundProcessing background(plan);
     const std::string last_board_step = plan.validation.empty() ? "board" : "board_validation";
     context.pose_captured = [&](const std::string& step, int pose) {
-      background.PoseCaptured(catalog.directory(), step, pose,
-                              SessionFrames::Of(catalog).OfPose(step, pose));
+      background.PoseCaptured(catalog.directory(), step, pose, catalog.FramesOf(step, pose));
     };
     context.step_captured = [&](const std::string& step) {
       if (step == last_board_step) background.BoardsCaptured(SessionFrames::Of(catalog));

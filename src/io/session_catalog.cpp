@@ -152,13 +152,30 @@ bool SessionCatalog::HasFrame(const std::string& step, int pose, double exposure
   return s.Step();
 }
 
-std::vector<CatalogFrame> SessionCatalog::Frames() const {
-  Statement s(db_, "SELECT step, pose, exposure_us, path, sha256, bytes FROM frames ORDER BY rowid",
-              path_);
+namespace {
+
+std::vector<CatalogFrame> FrameRows(Statement& s) {
   std::vector<CatalogFrame> out;
   while (s.Step())
     out.push_back({s.Text(0), int(s.Int(1)), s.Real(2), s.Text(3), s.Text(4), s.Int(5)});
   return out;
+}
+
+}  // namespace
+
+std::vector<CatalogFrame> SessionCatalog::Frames() const {
+  Statement s(db_, "SELECT step, pose, exposure_us, path, sha256, bytes FROM frames ORDER BY rowid",
+              path_);
+  return FrameRows(s);
+}
+
+std::vector<CatalogFrame> SessionCatalog::FramesOf(const std::string& step, int pose) const {
+  Statement s(db_,
+              "SELECT step, pose, exposure_us, path, sha256, bytes FROM frames "
+              "WHERE step = ? AND pose = ? ORDER BY rowid",
+              path_);
+  s.Bind(1, step).Bind(2, std::int64_t(pose));
+  return FrameRows(s);
 }
 
 void SessionCatalog::MarkStepDone(const std::string& step) {

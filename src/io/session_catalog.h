@@ -41,6 +41,9 @@ class SessionCatalog {
   void RecordFrame(CatalogFrame frame);
   bool HasFrame(const std::string& step, int pose, double exposure_us) const;
   std::vector<CatalogFrame> Frames() const;
+  // The frames of one pose of a step, in recording order (an indexed query: the capture asks
+  // after every pose, and the whole list grows with the session).
+  std::vector<CatalogFrame> FramesOf(const std::string& step, int pose) const;
 
   void MarkStepDone(const std::string& step);
   bool StepDone(const std::string& step) const;
