@@ -494,9 +494,10 @@ TEST_CASE("pixels solved in SIMD lanes equal pixels solved one at a time", "[pix
   std::bernoulli_distribution drop(0.04);
   for (std::size_t i = 0; i < obs.light.size(); ++i)
     if (drop(rng)) obs.rgb[3 * i + rng() % 3] = std::numeric_limits<float>::quiet_NaN();
-  auto solve = [&](PixelKernel kernel) {
+  auto solve = [&](PixelKernel kernel, int k = 20) {
     PixelSolveOptions o = PerPixel();
     o.kernel = kernel;
+    o.components = k;
     PixelSolution s;
     s.Resize(obs.pixels, o.components);
     SolvePixels(d.basis.View(), obs, o, &s);
@@ -561,4 +562,17 @@ TEST_CASE("pixels solved in SIMD lanes equal pixels solved one at a time", "[pix
       CHECK(worst_condition < 0.1);
     }
   }
+  // k = 7, not a multiple of the products' 4 x 4 blocks (padded with zero columns): the same
+  // coefficients and validity.
+  const PixelSolution one7 = solve(PixelKernel::kOnePixel, 7),
+                      lanes7 = solve(PixelKernel::kLanesDouble, 7);
+  double worst7 = 0;
+  for (int p = 0; p < obs.pixels; ++p) {
+    const std::size_t i = std::size_t(p);
+    const Eigen::Map<const Eigen::VectorXf> a(&lanes7.coefficients[i * 21], 21),
+        b(&one7.coefficients[i * 21], 21);
+    worst7 = std::max(worst7, double((a - b).norm() / std::max(b.norm(), 1e-6f)));
+    CHECK(lanes7.valid[i] == one7.valid[i]);
+  }
+  CHECK(worst7 < 1e-6);
 }
