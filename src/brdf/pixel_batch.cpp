@@ -177,14 +177,12 @@ void PixelBatch<T>::EstimateCondition(M skip, V* condition) {
   for (int i = 0; i < k; ++i)
     for (int j = 0; j <= i; ++j)
       square_[std::size_t(i) * k + j] = square_[std::size_t(j) * k + i] = normal_[Packed(i, j)];
-  steps_ = 0;
   V quotient[2];
   for (int pass = 0; pass < 2; ++pass) {
     std::vector<V>& x = pass == 0 ? largest_ : smallest_;
     M done = skip;
     V q_prev{};
     for (int step = 0; step < kMaxSteps && Any<T>(~done); ++step) {
-      ++steps_;
       if (pass == 0) {  // w = A x
         for (int i = 0; i < k; ++i) Dots<1>(&square_[std::size_t(i) * k], x.data(), 0, k, &w_[i]);
       } else {  // w = A^-1 x
@@ -218,6 +216,9 @@ template <class T>
 void PixelBatch<T>::Solve(const PixelSolveOptions& options, PixelSolution* solution,
                           std::size_t first_out) {
   const int k = k_, kp = stride_, n = padded_views_;
+  M solved{};  // loaded lanes with enough observations
+  for (int l = 0; l < count_; ++l) solved[l] = Deferred(l) ? 0 : -1;
+  if (!Any<T>(solved)) return;
   // Q^T Q, lower triangle, in 4 x 4 blocks of accumulators held in registers: two loads a
   // multiply-add would leave the loop waiting on memory instead of arithmetic.
   normal_.resize(Packed(k, 0));
@@ -233,9 +234,6 @@ void PixelBatch<T>::Solve(const PixelSolveOptions& options, PixelSolution* solut
         for (int b = 0; b < kBlock && j0 + b <= i0 + a; ++b)
           normal_[Packed(i0 + a, j0 + b)] = acc[a][b];
     }
-  M solved{};  // loaded lanes with enough observations
-  for (int l = 0; l < count_; ++l) solved[l] = Deferred(l) ? 0 : -1;
-  if (!Any<T>(solved)) return;
   M plain_ok;
   Factorise(T(0), &plain_ok);
   V condition;
@@ -280,8 +278,7 @@ void PixelBatch<T>::Solve(const PixelSolveOptions& options, PixelSolution* solut
     for (int i = 0; i < 3 * k && finite; ++i) finite = std::isfinite(rhs_[i][l]);
     float* coeff = &solution->coefficients[out * 3 * k];
     for (int i = 0; i < 3 * k; ++i) coeff[i] = finite ? float(rhs_[i][l]) : 0.0f;
-    const double cond =
-        plain_ok[l] ? double(condition[l]) : std::numeric_limits<double>::infinity();
+    const double cond = condition[l];  // infinite where the plain factorisation failed
     solution->observations[out] = std::uint16_t(used_[l]);
     solution->condition[out] = float(cond);
     solution->residual[out] = finite ? float(std::sqrt(misfit[l] / (3.0 * used_[l]))) : 0.0f;

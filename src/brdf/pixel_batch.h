@@ -35,8 +35,6 @@ class PixelBatch {
   // The condition estimates of the next Solve start from scratch instead of from the previous
   // batch's eigenvectors (SolvePixels does this at every OpenMP chunk, for determinism).
   void ColdStart() { largest_.clear(); }
-  // Power plus inverse iteration steps the last Solve took (the most any of its pixels needed).
-  int last_steps() const { return steps_; }
 
  private:
   using V = Lanes<T>;
@@ -59,7 +57,6 @@ class PixelBatch {
   std::vector<V> largest_, smallest_, w_;  // k: warm starts of the condition estimate
   std::vector<V> rhs_;                     // 3 x k
   std::vector<float> row_;                 // one sampled row
-  int steps_ = 0;
 };
 
 extern template class PixelBatch<double>;
