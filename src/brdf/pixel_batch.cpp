@@ -14,11 +14,6 @@ constexpr std::size_t Packed(int i, int j) {  // (i, j), j <= i, of a lower tria
   return std::size_t(i) * (i + 1) / 2 + j;
 }
 
-template <class T>
-Lanes<T> Abs(Lanes<T> x) {
-  return x < T(0) ? -x : x;
-}
-
 // sum_m a[m] b[m], m < n, for kColumns vectors b_c = b + c * stride at once, in four partial
 // sums each: a single running sum would make every multiply-add wait for the previous one
 // (four cycles of latency), which is what bounded the factorisations and solves.

@@ -51,6 +51,11 @@ Lanes<T> Sqrt(Lanes<T> x) {
 }
 
 template <class T>
+Lanes<T> Abs(Lanes<T> x) {
+  return x < T(0) ? -x : x;
+}
+
+template <class T>
 Lanes<T> Min(Lanes<T> a, Lanes<T> b) {
   return a < b ? a : b;
 }
@@ -101,7 +106,7 @@ LaneMask<T> SignBit(Lanes<T> x) {
 // conversion's bins expect.
 template <class T>
 Lanes<T> Atan2(Lanes<T> y, Lanes<T> x) {
-  const Lanes<T> ay = y < T(0) ? -y : y, ax = x < T(0) ? -x : x;
+  const Lanes<T> ay = Abs<T>(y), ax = Abs<T>(x);
   const Lanes<T> lo = Min<T>(ay, ax), hi = Max<T>(ay, ax);
   const Lanes<T> t = hi > T(0) ? lo / hi : Splat<T>(0);
   Lanes<T> r = AtanUnit<T>(t);
