@@ -2,17 +2,20 @@
 # acqd on bad plans (tests/plans/*.yaml, each one problem away from good.yaml): each must exit 1
 # before any device is opened or moved, naming the plan's file:line:column (or the directions
 # file's line) and the problem. good.yaml passes --dry-run and prints an order and a time.
-# usage: test_plans.sh ACQD PLANS_DIR DATA_DIR
+# usage: test_plans.sh ACQD PLANS_DIR DATA_DIR ACQ
 set -u
 acqd=$1
 plans=$2
 data=$3
+acq=$4
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 cp "$plans"/*.yaml "$tmp/"
 cp "$data/directions/seed_directions_20.tsv" "$tmp/directions.tsv"
 cp "$data/nbrdf/merl/white-paint.h5" "$data/nbrdf/merl/brass.h5" "$tmp/"
-: > "$tmp/basis.acqb"  # the loader checks that the basis exists; the capture reads it
+# The dry run opens the basis and matches k to it: a small real one (5 materials, 4 components).
+"$acq" basis build "$data"/nbrdf/merl/{alum-bronze,black-fabric,blue-acrylic,brass,chrome}.h5 \
+  --components 4 -o "$tmp/basis.acqb" --quiet > /dev/null || { echo "FAIL: basis build"; exit 1; }
 failures=0
 passed=0
 
@@ -68,6 +71,51 @@ expect "intrinsics given twice" 1 both_intrinsics.yaml --dry-run -- \
 expect "directions given twice" 1 two_directions.yaml --dry-run -- \
   "two_directions.yaml:" "directions.file and directions.optimize exclude each other"
 expect "no plan" 1 no_such_plan.yaml --dry-run -- "no_such_plan.yaml" "cannot read the plan"
+
+# Issue 22: what the dry run must catch, each a one-line change of good.yaml.
+variant() {  # name, sed expression
+  sed -e "$2" "$tmp/good.yaml" > "$tmp/$1.yaml"
+}
+variant duplicate_key 's/^  k: 4$/  k: 4\n  k: 8/'
+expect "duplicate key" 1 duplicate_key.yaml --dry-run -- "duplicate_key.yaml:23:3:" "'reconstruction.k' is given twice"
+cp "$tmp/good.yaml" "$tmp/two_documents.yaml"; printf -- '---\nversion: 1\n' >> "$tmp/two_documents.yaml"
+expect "second document" 1 two_documents.yaml --dry-run -- "two_documents.yaml:26:1:" "a second YAML document"
+variant nan_settle 's/settle_s: 0.5/settle_s: .nan/'
+expect "NaN" 1 nan_settle.yaml --dry-run -- "nan_settle.yaml:10:" "must be a finite number"
+variant inf_size 's/size_mm: \[40, 40\]/size_mm: [40, .inf]/'
+expect "infinity in a list" 1 inf_size.yaml --dry-run -- "inf_size.yaml:6:" "finite numbers"
+variant fast_axis 's/theta_speed_deg_s: 30/theta_speed_deg_s: 1e9/'
+expect "speed out of range" 1 fast_axis.yaml --dry-run -- "fast_axis.yaml:" "axis speeds must be in (0, 360]"
+variant long_settle 's/settle_s: 0.5/settle_s: 1e6/'
+expect "settle out of range" 1 long_settle.yaml --dry-run -- "long_settle.yaml:" "from 0 to 60 s"
+variant huge_sample 's/size_mm: \[40, 40\]/size_mm: [40, 1e300]/'
+expect "sample size out of range" 1 huge_sample.yaml --dry-run -- "huge_sample.yaml:6:" "from above 0 to 1000"
+variant time_scale 's/^sim:$/sim:\n  time_scale: 1e12/'
+expect "time scale out of range" 1 time_scale.yaml --dry-run -- "time_scale.yaml:" "sim.time_scale must be from above 0 to 1000"
+variant big_vid 's/^gantry:$/gantry:\n  usb: {vid: 70000}/'
+expect "vid out of range" 1 big_vid.yaml --dry-run -- "big_vid.yaml:8:" "gantry.usb.vid is 70000, outside 0 to 65535"
+variant board_fraction 's/size: \[10, 10\]/size: [10.5, 10]/'
+expect "board size not whole" 1 board_fraction.yaml --dry-run -- "board_fraction.yaml:18:" "whole numbers"
+variant k_too_big 's/^  k: 4$/  k: 12/'
+expect "k above the basis" 1 k_too_big.yaml --dry-run -- "k_too_big.yaml:22:6:" "the basis" "has 4 components"
+grep -v '^#' "$tmp/directions.tsv" | head -3 > "$tmp/two.tsv"  # the header and 2 directions
+variant k_above_directions 's/file: directions.tsv/file: two.tsv/'
+expect "k above the directions" 1 k_above_directions.yaml --dry-run -- "k_above_directions.yaml:22:6:" "the plan has 2 directions"
+variant root_output 's|^output: session|output: /|'
+expect "output /" 1 root_output.yaml --dry-run -- "root_output.yaml: output" "is a system folder"
+variant null_output 's|^output: session|output: /dev/null|'
+expect "output /dev/null" 1 null_output.yaml --dry-run -- "null_output.yaml: output" "exists and is not a folder"
+variant source_output "s|^output: session|output: $(cd "$plans/../.." && pwd)/src/sessions|"
+expect "output in the source tree" 1 source_output.yaml --dry-run -- "is inside the project's source tree"
+variant missing_section_key 's/^backend: sim$//'
+expect "a missing key names a place" 1 missing_section_key.yaml --dry-run -- "missing_section_key.yaml:2:1:" "missing 'backend'"
+mkfifo "$tmp/fifo.yaml"
+expect "a FIFO as the plan" 1 fifo.yaml --dry-run -- "fifo.yaml" "not a regular file"
+mkdir "$tmp/folder.yaml"
+expect "a folder as the plan" 1 folder.yaml --dry-run -- "folder.yaml" "not a regular file"
+if grep -rq ':0:0' <("$acqd" --session "$tmp/missing_section_key.yaml" --dry-run 2>&1); then
+  failures=$((failures + 1)); echo "FAIL: a place 0:0"
+fi
 
 echo "$passed passed, $failures failed"
 [ "$failures" -eq 0 ]

@@ -30,10 +30,15 @@ std::string Deg(double rad) {
 }  // namespace
 
 void GantryMotion::Check() const {
+  // Physical ranges (issue 22): an arm faster than 360 deg/s or 3600 deg/s^2 is no gantry's,
+  // a settle over a minute a typing error; both also keep the planner's times finite.
   for (const AxisLimits* l : {&theta, &phi})
-    if (!(l->speed > 0) || !(l->acceleration > 0))
-      throw UserError("gantry motion", "axis speeds and accelerations must be positive");
-  if (!(settle_s >= 0)) throw UserError("--settle-s", "must be >= 0");
+    if (!(l->speed > 0 && l->speed <= DegToRad(360)) ||
+        !(l->acceleration > 0 && l->acceleration <= DegToRad(3600)))
+      throw UserError("gantry motion",
+                      "axis speeds must be in (0, 360] deg/s and accelerations in (0, 3600] "
+                      "deg/s^2");
+  if (!(settle_s >= 0 && settle_s <= 60)) throw UserError("--settle-s", "must be from 0 to 60 s");
   if (phi_h_steps < 1) throw UserError("phi_h steps", "must be at least 1");
   constraints.Check();
 }

@@ -3,6 +3,8 @@
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
+#include <climits>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <functional>
@@ -21,13 +23,26 @@ namespace fs = std::filesystem;
 // A YAML mapping with what the plan allows in it; every access checks type and names the place.
 class Section {
  public:
-  Section(const YAML::Node& node, std::string file, std::string name, std::set<std::string> keys)
-      : node_(node), file_(std::move(file)), name_(std::move(name)), keys_(std::move(keys)) {
+  // `fallback` is where a section absent from the file is reported (its parent's place).
+  Section(const YAML::Node& node, std::string file, std::string name, std::set<std::string> keys,
+          YAML::Mark fallback = YAML::Mark())
+      : node_(node),
+        file_(std::move(file)),
+        name_(std::move(name)),
+        keys_(std::move(keys)),
+        fallback_(fallback) {
     if (!node_.IsMap())
       throw UserError(Where(node_), (name_.empty() ? "the plan" : name_) + " must be a mapping",
                       "write it as `key: value` lines (docs/session-and-plan.md)");
+    std::set<std::string> seen;
     for (const auto& kv : node_) {
+      if (!kv.first.IsScalar())
+        throw UserError(Where(kv.first), "a key must be a name, not a list or map",
+                        "write it as `key: value` lines (docs/session-and-plan.md)");
       const std::string key = kv.first.as<std::string>();
+      if (!seen.insert(key).second)
+        throw UserError(Where(kv.first), "'" + Qualified(key) + "' is given twice",
+                        "keep one of them: which one was meant cannot be guessed");
       if (!keys_.count(key)) {
         std::string known;
         for (const std::string& k : keys_) known += (known.empty() ? "" : ", ") + k;
@@ -39,7 +54,9 @@ class Section {
 
   bool Has(const std::string& key) const { return bool(node_[key]); }
   std::string Where(const YAML::Node& n) const {
-    const YAML::Mark m = n.Mark();
+    YAML::Mark m = n.Mark();
+    if (m.is_null()) m = fallback_;  // a node made here, not read from the file
+    if (m.is_null()) m.line = m.column = 0;
     return file_ + ":" + std::to_string(m.line + 1) + ":" + std::to_string(m.column + 1);
   }
   std::string Where(const std::string& key) const {
@@ -62,11 +79,22 @@ class Section {
                                     "'");
     }
   }
+  // Every number of the plan is finite (.nan, .inf and 1e999 are refused here, in one place).
   double Number(const std::string& key, double fallback) const {
-    return Get<double>(key, fallback, "a number");
+    const double v = Get<double>(key, fallback, "a number");
+    if (!std::isfinite(v))
+      throw UserError(Where(key), Qualified(key) + " must be a finite number, not '" +
+                                      node_[key].Scalar() + "'");
+    return v;
   }
-  int Integer(const std::string& key, int fallback) const {
-    return Get<int>(key, fallback, "a whole number");
+  // A whole number in [lo, hi], checked before any narrowing conversion.
+  long long Integer(const std::string& key, long long fallback, long long lo = INT_MIN,
+                    long long hi = INT_MAX) const {
+    const long long v = Get<long long>(key, fallback, "a whole number");
+    if (v < lo || v > hi)
+      throw UserError(Where(key), Qualified(key) + " is " + std::to_string(v) + ", outside " +
+                                      std::to_string(lo) + " to " + std::to_string(hi));
+    return v;
   }
   std::string Text(const std::string& key, const std::string& fallback = {}) const {
     return Get<std::string>(key, fallback, "text");
@@ -88,18 +116,40 @@ class Section {
     std::vector<double> out;
     for (const YAML::Node& e : n) {
       try {
+        if (!e.IsScalar()) throw YAML::Exception(e.Mark(), "not a scalar");
         out.push_back(e.as<double>());
       } catch (const YAML::Exception&) {
         throw UserError(Where(e), Qualified(key) + " must hold numbers, not '" +
                                       (e.IsScalar() ? e.Scalar() : std::string("a list or map")) +
                                       "'");
       }
+      if (!std::isfinite(out.back()))
+        throw UserError(Where(e),
+                        Qualified(key) + " must hold finite numbers, not '" + e.Scalar() + "'");
+    }
+    return out;
+  }
+  // A list of whole numbers (counts), each in [lo, hi].
+  std::vector<int> Counts(const std::string& key, int lo, int hi) const {
+    std::vector<int> out;
+    const YAML::Node n = node_[key];
+    std::size_t i = 0;
+    for (double v : Numbers(key)) {
+      if (v != std::floor(v) || v < lo || v > hi)
+        throw UserError(Where(n[i]), Qualified(key) + " must hold whole numbers from " +
+                                         std::to_string(lo) + " to " + std::to_string(hi) +
+                                         ", not " + n[i].Scalar());
+      out.push_back(int(v));
+      ++i;
     }
     return out;
   }
   Section Child(const std::string& key, std::set<std::string> keys) const {
     const YAML::Node n = node_[key];
-    return Section(n ? n : YAML::Node(YAML::NodeType::Map), file_, Qualified(key), std::move(keys));
+    YAML::Mark here = node_.Mark();
+    if (here.is_null()) here = fallback_;
+    return Section(n ? n : YAML::Node(YAML::NodeType::Map), file_, Qualified(key), std::move(keys),
+                   here);
   }
   // Runs `check`; a UserError it throws is re-thrown at this key's place.
   void At(const std::string& key, const std::function<void()>& check) const {
@@ -114,7 +164,39 @@ class Section {
   YAML::Node node_;
   std::string file_, name_;
   std::set<std::string> keys_;
+  YAML::Mark fallback_;
 };
+
+// The plan's one YAML document. A FIFO, a device or a folder is refused before it is read (a
+// FIFO would block the read); a second document is refused (which was meant cannot be told).
+YAML::Node LoadPlanDocument(const std::string& path) {
+  std::error_code ec;
+  if (!fs::exists(path, ec))
+    throw UserError(path, "cannot read the plan: no such file", "check the path");
+  if (!fs::is_regular_file(path, ec))
+    throw UserError(path, "the plan is not a regular file (a folder, a FIFO or a device)",
+                    "give the path of a plan .yaml file");
+  std::vector<YAML::Node> documents;
+  try {
+    documents = YAML::LoadAllFromFile(path);
+  } catch (const YAML::BadFile&) {
+    throw UserError(path, "cannot read the plan", "check the path and its permissions");
+  } catch (const YAML::ParserException& e) {
+    throw UserError(
+        path + ":" + std::to_string(e.mark.line + 1) + ":" + std::to_string(e.mark.column + 1),
+        "not valid YAML: " + e.msg, "check the indentation and the brackets there");
+  }
+  if (documents.empty() || documents.front().IsNull())
+    throw UserError(path + ":1:1", "the plan is empty",
+                    "start from an example plan (examples/plan-sim.yaml)");
+  if (documents.size() > 1) {
+    const YAML::Mark m = documents[1].Mark();
+    throw UserError(path + ":" + std::to_string(m.line + 1) + ":" + std::to_string(m.column + 1),
+                    "a second YAML document ('---') in the plan",
+                    "a plan is one document: remove the second, or give it its own file");
+  }
+  return documents.front();
+}
 
 std::string Resolve(const std::string& plan_path, const std::string& p) {
   if (p.empty() || fs::path(p).is_absolute()) return p;
@@ -169,16 +251,7 @@ static void OptimizePlanDirections(Plan* plan) {
 }
 
 Plan LoadPlan(const std::string& path) {
-  YAML::Node root;
-  try {
-    root = YAML::LoadFile(path);
-  } catch (const YAML::BadFile&) {
-    throw UserError(path, "cannot read the plan", "check the path");
-  } catch (const YAML::ParserException& e) {
-    throw UserError(
-        path + ":" + std::to_string(e.mark.line + 1) + ":" + std::to_string(e.mark.column + 1),
-        "not valid YAML: " + e.msg, "check the indentation and the brackets there");
-  }
+  const YAML::Node root = LoadPlanDocument(path);
   Plan plan;
   plan.path = path;
   const Section top(root, path, "",
@@ -213,8 +286,10 @@ Plan LoadPlan(const std::string& path) {
   const Section sample = top.Child("sample", {"size_mm"});
   const std::vector<double> size = sample.Numbers("size_mm");
   if (!size.empty()) {
-    if (size.size() != 2 || !(size[0] > 0) || !(size[1] > 0))
-      throw UserError(sample.Where("size_mm"), "sample.size_mm must be two positive numbers",
+    // Up to a metre: the gantry's arms are about that far away.
+    if (size.size() != 2 || !(size[0] > 0) || !(size[1] > 0) || size[0] > 1000 || size[1] > 1000)
+      throw UserError(sample.Where("size_mm"),
+                      "sample.size_mm must be two numbers from above 0 to 1000",
                       "width and height of the sample in mm, like [70, 70]");
     plan.sample_width_mm = size[0];
     plan.sample_height_mm = size[1];
@@ -223,8 +298,8 @@ Plan LoadPlan(const std::string& path) {
   const Section gantry =
       top.Child("gantry", {"usb", "limits", "axes", "camera_distance_mm", "light_distance_mm"});
   const Section usb = gantry.Child("usb", {"vid", "pid", "serial"});
-  plan.usb.vendor_id = std::uint16_t(usb.Integer("vid", plan.usb.vendor_id));
-  plan.usb.product_id = std::uint16_t(usb.Integer("pid", plan.usb.product_id));
+  plan.usb.vendor_id = std::uint16_t(usb.Integer("vid", plan.usb.vendor_id, 0, 0xFFFF));
+  plan.usb.product_id = std::uint16_t(usb.Integer("pid", plan.usb.product_id, 0, 0xFFFF));
   plan.usb.serial = usb.Text("serial");
   usb.At("vid", [&] { plan.usb.Check(); });
   const Section limits = gantry.Child(
@@ -244,8 +319,9 @@ Plan LoadPlan(const std::string& path) {
   for (auto [key, value] : {std::pair{"camera_distance_mm", &plan.camera_distance_mm},
                             std::pair{"light_distance_mm", &plan.light_distance_mm}}) {
     *value = gantry.Number(key, *value);
-    if (!(*value > 0))
-      throw UserError(gantry.Where(key), gantry.Qualified(key) + " must be positive");
+    if (!(*value >= 50 && *value <= 1e5))
+      throw UserError(gantry.Where(key), gantry.Qualified(key) + " must be from 50 to 100000 mm",
+                      "the distance from the sample's centre to the arm's camera or light");
   }
 
   const Section camera = top.Child("camera", {"id", "pixel_format", "gain_db", "hdr"});
@@ -282,13 +358,10 @@ Plan LoadPlan(const std::string& path) {
   const Section optimizer = directions.Child("optimize", {"n", "seed", "candidates"});
   if (optimize) {
     // Chosen below, once the basis is known (reconstruction.basis).
-    plan.optimize_n = optimizer.Integer("n", plan.optimize_n);
-    plan.optimize_seed = std::uint64_t(optimizer.Integer("seed", 1));
-    plan.optimize_candidates = optimizer.Integer("candidates", plan.optimize_candidates);
-    if (plan.optimize_n < 1 || plan.optimize_n > 200 || plan.optimize_candidates < 1)
-      throw UserError(optimizer.Where("n"),
-                      "directions.optimize.n must be in 1..200 and candidates at least 1",
-                      "about 20 directions is the method's design (Yu et al.)");
+    plan.optimize_n = int(optimizer.Integer("n", plan.optimize_n, 1, 200));
+    plan.optimize_seed = std::uint64_t(optimizer.Integer("seed", 1, 0, LLONG_MAX));
+    plan.optimize_candidates =
+        int(optimizer.Integer("candidates", plan.optimize_candidates, 1, 1000000));
   } else {
     plan.directions_file = Resolve(path, directions.Required("file"));
     RequireFile(directions, "file", plan.directions_file,
@@ -322,7 +395,8 @@ Plan LoadPlan(const std::string& path) {
                 "give a .cameramodel written by acqd or `acq calibrate intrinsics`");
     plan.intrinsics_captures = 0;
   } else {
-    plan.intrinsics_captures = calibration.Integer("intrinsics_captures", plan.intrinsics_captures);
+    plan.intrinsics_captures =
+        int(calibration.Integer("intrinsics_captures", plan.intrinsics_captures, 0, 1000));
     if (plan.intrinsics_captures < 3)
       throw UserError(calibration.Where("intrinsics_captures"),
                       "calibration.intrinsics_captures must be at least 3",
@@ -335,17 +409,18 @@ Plan LoadPlan(const std::string& path) {
                     "calibration.lensmodel '" + plan.lensmodel + "' is not an mrcal lens model",
                     "like LENSMODEL_OPENCV4 or LENSMODEL_OPENCV8 (docs/lens-model-choice.md)");
   const Section board = calibration.Child("board", {"size", "spacing_mm"});
-  const std::vector<double> board_size = board.Numbers("size");
+  const std::vector<int> board_size = board.Counts("size", 2, 100);
   if (!board_size.empty()) {
-    if (board_size.size() != 2 || board_size[0] < 2 || board_size[1] < 2)
+    if (board_size.size() != 2)
       throw UserError(board.Where("size"), "calibration.board.size must be two counts >= 2",
                       "inner corners across and down, like [10, 10]");
     plan.board_width_n = int(board_size[0]);
     plan.board_height_n = int(board_size[1]);
   }
   plan.board_spacing_mm = board.Number("spacing_mm", plan.board_spacing_mm);
-  if (!(plan.board_spacing_mm > 0))
-    throw UserError(board.Where("spacing_mm"), "calibration.board.spacing_mm must be positive");
+  if (!(plan.board_spacing_mm > 0 && plan.board_spacing_mm <= 1000))
+    throw UserError(board.Where("spacing_mm"),
+                    "calibration.board.spacing_mm must be from above 0 to 1000 mm");
   plan.spectralon = top.Flag("spectralon", true);
   if (!plan.spectralon && plan.backend != Backend::kSim)
     throw UserError(top.Where("spectralon"),
@@ -362,6 +437,8 @@ Plan LoadPlan(const std::string& path) {
                       "list neural-BRDF fits (.h5) for the simulated card's inks, like "
                       "[../data/nbrdf/merl/white-paint.h5]");
     for (const YAML::Node& m : materials) {
+      if (!m.IsScalar())
+        throw UserError(sim.Where(m), "sim.materials must list file names, not lists or maps");
       const std::string file = Resolve(path, m.as<std::string>());
       if (!fs::is_regular_file(file))
         throw UserError(sim.Where(m), "sim.materials: no such file " + file,
@@ -369,20 +446,24 @@ Plan LoadPlan(const std::string& path) {
       plan.sim_materials.push_back(file);
     }
   }
-  plan.sim_seed = std::uint64_t(sim.Integer("seed", 1));
+  plan.sim_seed = std::uint64_t(sim.Integer("seed", 1, 0, LLONG_MAX));
   plan.sim_light_intensity = sim.Number("light_intensity", plan.sim_light_intensity);
   plan.sim_time_scale = sim.Number("time_scale", plan.sim_time_scale);
   plan.sim_operator = sim.Flag("operator", plan.sim_operator);
-  if (!(plan.sim_time_scale > 0) || !(plan.sim_light_intensity > 0))
-    throw UserError(sim.Where("time_scale"),
-                    "sim.time_scale and sim.light_intensity must be positive");
+  if (!(plan.sim_time_scale > 0 && plan.sim_time_scale <= 1000))
+    throw UserError(sim.Where("time_scale"), "sim.time_scale must be from above 0 to 1000",
+                    "simulated seconds per wall second: 1 is real time");
+  if (!(plan.sim_light_intensity > 0))
+    throw UserError(sim.Where("light_intensity"), "sim.light_intensity must be positive");
 
   const Section recon = top.Child("reconstruction", {"basis", "k", "eta", "lookup", "row_tile"});
   plan.basis_file = Resolve(path, recon.Required("basis"));
   RequireFile(recon, "basis", plan.basis_file, "build one with `acq basis build` (README)");
-  plan.components = recon.Integer("k", plan.components);
+  plan.basis_where = recon.Where("basis");
+  plan.components_where = recon.Where("k");
+  plan.components = int(recon.Integer("k", plan.components, 1, 64));
   plan.eta = recon.Number("eta", plan.eta);
-  plan.row_tile = recon.Integer("row_tile", plan.row_tile);
+  plan.row_tile = int(recon.Integer("row_tile", plan.row_tile, 1, 4096));
   const std::string lookup = recon.Text("lookup", "nearest");
   if (lookup == "nearest")
     plan.lookup = RowLookup::kNearest;
@@ -391,11 +472,7 @@ Plan LoadPlan(const std::string& path) {
   else
     throw UserError(recon.Where("lookup"), "reconstruction.lookup '" + lookup + "' is not known",
                     "use nearest or interpolated");
-  if (plan.components < 1 || plan.components > 64)
-    throw UserError(recon.Where("k"), "reconstruction.k must be in 1..64");
   if (!(plan.eta >= 0)) throw UserError(recon.Where("eta"), "reconstruction.eta must be >= 0");
-  if (plan.row_tile < 1)
-    throw UserError(recon.Where("row_tile"), "reconstruction.row_tile must be >= 1");
   if (optimize) optimizer.At("n", [&] { OptimizePlanDirections(&plan); });
   return plan;
 }

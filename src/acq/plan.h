@@ -68,6 +68,7 @@ struct Plan {
   bool sim_operator = false;
 
   std::string basis_file;
+  std::string basis_where, components_where;  // file:line:column of the keys, for later checks
   int components = 20;
   double eta = 40;
   RowLookup lookup = RowLookup::kNearest;

@@ -22,6 +22,8 @@
 #include "acq/map_score.h"
 #include "acq/move_planner.h"
 #include "acq/plan.h"
+#include "acq/plan_checks.h"
+#include "acq/plan_record.h"
 #include "brdf/basis_file.h"
 #include "brdf/directions.h"
 #include "brdf/evaluation.h"
@@ -29,6 +31,7 @@
 #include "core/angles.h"
 #include "core/error.h"
 #include "core/seconds_since.h"
+#include "core/stop_request.h"
 #include "daemon/background.h"
 #include "daemon/capture.h"
 #include "daemon/control.h"
@@ -42,6 +45,7 @@
 #include "hw/usb_transport.h"
 #include "io/float_planes_exr.h"
 #include "io/session_catalog.h"
+#include "io/session_lock.h"
 
 namespace acq {
 namespace {
@@ -118,6 +122,19 @@ void ScoreCalibration(const Plan& plan, const SimWorld& world, SessionReport* re
   report->board_eye_error_max_deg = *std::max_element(eye_error_deg.begin(), eye_error_deg.end());
 }
 
+// The calibration inputs the run will read, read now: the lens model's name (mrcal knows it)
+// and a camera model calibrated before.
+void CheckCalibrationInputs(const Plan& plan) {
+  calib::ParseLensModel(plan.lensmodel, plan.lensmodel_where);
+  if (plan.intrinsics_file.empty()) return;
+  try {
+    calib::CameraModel::Read(plan.intrinsics_file);
+  } catch (const UserError& e) {
+    throw UserError(plan.path + ": calibration.camera_model", e.what(),
+                    "give a .cameramodel written by acqd or `acq calibrate intrinsics`");
+  }
+}
+
 void PrintDryRun(const Plan& plan) {
   std::printf("plan %s: backend %s, session directory %s\n", plan.path.c_str(),
               BackendName(plan.backend), plan.output.c_str());
@@ -192,7 +209,8 @@ int Run(int argc, char** argv) {
     return 1;
   }
   const Plan plan = LoadPlan(session);
-  calib::ParseLensModel(plan.lensmodel, plan.lensmodel_where);  // mrcal knows it, before motion
+  CheckPlanResources(plan);  // what the run will open: the basis, the output folder
+  CheckCalibrationInputs(plan);
   if (dry_run) {
     PrintDryRun(plan);
     return 0;
@@ -202,6 +220,12 @@ int Run(int argc, char** argv) {
   if (plan.backend == Backend::kSim && !SimEnvironmentReady())
     throw UserError("acqd", ReexecForSim(argc, argv),
                     "the sim backend needs unshare (util-linux), ip (iproute2) and umockdev");
+  InstallStopHandlers();
+  // The session is this process's from here to its end: a second acqd (or a repair) is refused.
+  const SessionLock lock(plan.output, "acqd");
+  if (!lock.taken_over_from().empty())
+    std::printf("taking over the session's lock from %s, which is no longer running\n",
+                lock.taken_over_from().c_str());
   const auto session_start = SteadyClock::now();
   SessionReport report;
   report.plan = plan.path;
@@ -226,6 +250,23 @@ int Run(int argc, char** argv) {
     usb = world->usb_id();
     camera_options.id = world->camera_address();
   }
+  // The session's record before any device: a resume with another plan is refused here, and
+  // nothing is deleted before the catalog is known to match the frames.
+  phase("verifying the session in " + plan.output);
+  SessionCatalog catalog(plan.output);
+  if (!lock.taken_over_from().empty())
+    catalog.Event("warning", "lock taken over from " + lock.taken_over_from());
+  const PlanCheck plan_check = RecordOrCheckPlan(plan, plan.output, catalog);
+  for (const std::string& change : plan_check.processing_changes)
+    std::printf("plan changed for processing only (allowed, recorded): %s\n", change.c_str());
+  const SessionCatalog::Repair repair = catalog.VerifyAndRepair();
+  if (repair.verified > 0 || !repair.orphans.empty() || !repair.bad.empty())
+    std::printf("resuming %s: %d frames verified, %zu damaged and %zu unrecorded frames dropped\n",
+                plan.output.c_str(), repair.verified, repair.bad.size(), repair.orphans.size());
+  if (!repair.unknown.empty())
+    std::printf("left alone in %s/frames: %zu files acqd did not write (%s%s)\n",
+                plan.output.c_str(), repair.unknown.size(), repair.unknown.front().c_str(),
+                repair.unknown.size() > 1 ? ", ..." : "");
   // Devices are opened before anything moves: an absent or wrong one ends here. Replay: the
   // recorded session's frames and arm angles stand in for both.
   std::unique_ptr<UsbTransport> transport;
@@ -247,12 +288,6 @@ int Run(int argc, char** argv) {
   }
   Gantry& gantry = *gantry_device;
   Camera& camera = *camera_device;
-  phase("verifying the session in " + plan.output);
-  SessionCatalog catalog(plan.output);
-  const SessionCatalog::Repair repair = catalog.VerifyAndRepair();
-  if (repair.verified > 0 || !repair.orphans.empty() || !repair.bad.empty())
-    std::printf("resuming %s: %d frames verified, %zu damaged and %zu unrecorded files dropped\n",
-                plan.output.c_str(), repair.verified, repair.bad.size(), repair.orphans.size());
   if (replay) {
     // The recorded decisions (automatic exposures) are the replay's: no probe frames to serve.
     const SessionCatalog recorded(plan.replay_session);
@@ -269,8 +304,9 @@ int Run(int argc, char** argv) {
                        "the directions this session used: " + plan.directions_file);
     catalog.Event("info", "session started (" + std::string(BackendName(plan.backend)) + ")");
     phase("homing");
-    gantry.Home();
-    while (gantry.Status().Moving()) std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    const TrapezoidProfile& slowest =
+        plan.motion.theta.speed < plan.motion.phi.speed ? plan.motion.theta : plan.motion.phi;
+    HomeAndWait(gantry, HomingTimeoutSeconds(slowest, plan.motion.settle_s));
     phase("planning the visiting order");
     auto planning_start = SteadyClock::now();
     const SessionVisits visits = PlanVisits(plan);
@@ -311,12 +347,14 @@ int Run(int argc, char** argv) {
     // Without Spectralon captures the light's intensity must be known: the simulated world's
     // (the plan refuses a real instrument without them).
     const double light = world ? world->LightIntensityInCounts(plan.camera.pixel_format) : 0;
+    ThrowIfStopRequested();
     phase("processing: finishing what ran during the capture");
     const auto finishing_start = SteadyClock::now();
     std::optional<SessionCalibration> calibrated = background.Finish();
     report.background_wait_s = SecondsSince(finishing_start);
     report.background_busy_s = background.busy_s();
     report.background_poses = background.poses_merged();
+    ThrowIfStopRequested();
     phase("processing: HDR merge, calibration, correspondence, reconstruction, validation");
     report.process = ProcessSession(plan, catalog, {light}, std::move(calibrated));
     if (world) {
@@ -330,14 +368,26 @@ int Run(int argc, char** argv) {
     WriteReport(report, plan.output);
     std::printf("\n%s\nreport: %s/report.txt and report.json\n", report.Text().c_str(),
                 plan.output.c_str());
+  } catch (const Stopped& e) {
+    // Asked to stop: the arms stopped (again: harmless when a move's wait did it), the stop
+    // recorded and published; the socket goes with the server, the lock with the process.
+    try {
+      gantry.Stop();
+    } catch (const std::exception&) {  // a gantry already gone: the stop is still recorded
+    }
+    status.state = DaemonState::kStopped;
+    status.last_error = e.what();
+    control.Publish(status);
+    catalog.Event("warning", e.what());
+    throw;
   } catch (const std::exception& e) {
-    status.state = "failed";
+    if (status.state != DaemonState::kAborted) status.state = DaemonState::kFailed;
     status.last_error = e.what();
     control.Publish(status);
     catalog.Event("error", e.what());
     throw;
   }
-  status.state = "done";
+  status.state = DaemonState::kDone;
   status.progress = 1;
   phase("done");
   return 0;
@@ -349,6 +399,9 @@ int Run(int argc, char** argv) {
 int main(int argc, char** argv) {
   try {
     return acq::Run(argc, argv);
+  } catch (const acq::Stopped& e) {
+    std::fprintf(stderr, "acqd: %s\n", e.what());
+    return 128 + e.signal_number();  // the shell's convention for "ended by this signal"
   } catch (const acq::UserError& e) {
     std::fprintf(stderr, "error: %s\n", e.what());
     return 1;

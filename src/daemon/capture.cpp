@@ -11,6 +11,7 @@
 #include "core/error.h"
 #include "core/rusinkiewicz.h"
 #include "core/seconds_since.h"
+#include "core/stop_request.h"
 #include "hw/frame_file.h"
 
 namespace acq {
@@ -19,34 +20,44 @@ namespace {
 // Stops the gantry and ends the session here, resumable.
 [[noreturn]] void Abort(CaptureContext& c) {
   c.gantry.Stop();
-  const std::string where = c.status.state == "paused"    ? "while paused at "
-                            : c.status.state == "waiting" ? "while waiting for the operator after "
-                                                          : "at ";
-  c.status.state = "aborted";
+  const std::string where = c.status.state == DaemonState::kPaused ? "while paused at "
+                            : c.status.state == DaemonState::kWaiting
+                                ? "while waiting for the operator after "
+                                : "at ";
+  c.status.state = DaemonState::kAborted;
+  c.status.prompt.clear();
+  c.status.prompt_id = 0;
   c.control.Publish(c.status);
   throw UserError("acqd", "aborted by the operator " + where + c.status.step,
                   "the gantry is stopped; run acqd again with the same plan to resume");
 }
 
-// Waits for `wanted` (resume, confirm), honouring abort meanwhile.
-void WaitFor(CaptureContext& c, const std::string& wanted) {
-  for (std::string next = c.control.TakeCommand(); next != wanted; next = c.control.TakeCommand()) {
-    if (next == "abort") Abort(c);
-    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+// Waits for `wanted` (resume; confirm of prompt `prompt_id`), honouring abort and a stop
+// signal meanwhile. A confirm of another prompt (one that raced with the prompt's end) is
+// dropped.
+void WaitFor(CaptureContext& c, CommandKind wanted, int prompt_id = 0) {
+  for (;;) {
+    ThrowIfStopRequested();
+    const std::optional<ControlCommand> next = c.control.TakeCommand();
+    if (next && next->kind == CommandKind::kAbort) Abort(c);
+    if (next && next->kind == wanted && next->prompt_id == prompt_id) return;
+    if (!next) std::this_thread::sleep_for(std::chrono::milliseconds(50));
   }
 }
 
-// At a safe point: publish, then honour pause (wait for resume) and abort (stop, throw).
+// At a safe point: publish, then honour a stop signal, pause (wait for resume) and abort
+// (stop, throw).
 void SafePoint(CaptureContext& c) {
   c.control.Publish(c.status);
-  for (std::string command = c.control.TakeCommand(); !command.empty();
+  ThrowIfStopRequested();
+  for (std::optional<ControlCommand> command = c.control.TakeCommand(); command;
        command = c.control.TakeCommand()) {
-    if (command == "abort") Abort(c);
-    if (command != "pause") continue;
-    const std::string was = c.status.state;
-    c.status.state = "paused";
+    if (command->kind == CommandKind::kAbort) Abort(c);
+    if (command->kind != CommandKind::kPause) continue;
+    const DaemonState was = c.status.state;
+    c.status.state = DaemonState::kPaused;
     c.control.Publish(c.status);
-    WaitFor(c, "resume");
+    WaitFor(c, CommandKind::kResume);
     c.status.state = was;
     c.control.Publish(c.status);
   }
@@ -73,15 +84,18 @@ double Place(CaptureContext& c, const std::string& item, int intrinsics_captures
   if (c.placed == item) return 0;
   const auto start = SteadyClock::now();
   if (c.ask_operator) {
-    const std::string was = c.status.state;
-    c.status.state = "waiting";
+    const DaemonState was = c.status.state;
+    c.status.state = DaemonState::kWaiting;
     c.status.prompt = Instructions(item, intrinsics_captures) + ", then run `acqctl confirm`";
+    c.status.prompt_id = ++c.prompts_shown;
     c.control.Publish(c.status);
-    std::printf("operator: %s\n", c.status.prompt.c_str());
+    std::printf("operator (prompt %d): %s\n", c.status.prompt_id, c.status.prompt.c_str());
     std::fflush(stdout);
-    WaitFor(c, "confirm");
+    WaitFor(c, CommandKind::kConfirm, c.status.prompt_id);
     c.status.prompt.clear();
+    c.status.prompt_id = 0;
     c.status.state = was;
+    c.control.Publish(c.status);
   }
   if (c.place) c.place(item);
   c.placed = item;
@@ -101,14 +115,18 @@ std::string StreamAttribute(const StreamStatistics& s) {
   return text;
 }
 
-std::string BracketKey(const std::string& step, int pose) {
-  return "bracket/" + step + "/" + std::to_string(pose);
+// A bracket as the catalog's decision and the frames' attribute hold it.
+std::string BracketText(const std::vector<double>& exposures) {
+  std::ostringstream out;
+  out.precision(17);
+  for (double t : exposures) out << t << ' ';
+  return out.str();
 }
 
 std::vector<double> RecordedBracket(const Plan& plan, const CaptureStep& step, int pose,
                                     const SessionCatalog& catalog) {
   if (!plan.auto_bracket && step.max_auto_frames == 0) return plan.bracket_us;
-  std::istringstream in(catalog.Decision(BracketKey(step.step, pose)));
+  std::istringstream in(catalog.Decision(BracketDecisionKey(step.step, pose)));
   std::vector<double> exposures;
   for (double t; in >> t;) exposures.push_back(t);
   return exposures;
@@ -123,10 +141,7 @@ std::vector<double> ChooseAndRecordBracket(const Plan& plan, const CaptureStep& 
   if (step.max_auto_frames > 0) options.max_frames = step.max_auto_frames;
   const std::vector<double> exposures = ChooseBracket(c.camera, plan.camera, HdrOptions{}, options);
   report->bracket_probe_s += SecondsSince(start);
-  std::ostringstream out;
-  out.precision(17);
-  for (double t : exposures) out << t << ' ';
-  c.catalog.RecordDecision(BracketKey(step.step, pose), out.str());
+  c.catalog.RecordDecision(BracketDecisionKey(step.step, pose), BracketText(exposures));
   return RecordedBracket(plan, step, pose, c.catalog);
 }
 
@@ -193,7 +208,7 @@ CaptureReport Capture(const Plan& plan, const CaptureStep& step, CaptureContext&
   namespace fs = std::filesystem;
   CaptureReport report;
   SessionStatus& status = c.status;
-  status.state = "running";
+  status.state = DaemonState::kRunning;
   const std::vector<PlannedPose>& poses = step.visit->poses;
   const TrapezoidProfile slowest =
       plan.motion.theta.speed < plan.motion.phi.speed ? plan.motion.theta : plan.motion.phi;
@@ -251,8 +266,7 @@ CaptureReport Capture(const Plan& plan, const CaptureStep& step, CaptureContext&
       const double exposing_s = std::min(grab_s, t / 1e6);
       report.exposure_s += exposing_s;
       report.transfer_s += grab_s - exposing_s;
-      char name[96];
-      std::snprintf(name, sizeof name, "frames/%s_%03zu_%.0fus.exr", step.step.c_str(), i, t);
+      const std::string name = FrameFileName(step.step, int(i), t);
       const StreamStatistics stats = c.camera.Statistics();
       WriteFrameExr((fs::path(c.catalog.directory()) / name).string(), frame,
                     {{"step", step.step},
@@ -263,11 +277,13 @@ CaptureReport Capture(const Plan& plan, const CaptureStep& step, CaptureContext&
                      {"camera", c.camera.Describe()},
                      {"gantry", c.gantry_id},
                      {"stream", StreamAttribute(stats)},
-                     {"grab_s", std::to_string(grab_s)}});
+                     {"grab_s", std::to_string(grab_s)},
+                     {"bracket_us", BracketText(bracket)}});
       c.catalog.RecordFrame({step.step, int(i), t, name, "", 0});
       ++report.frames_taken;
       ++status.frames;
       status.incomplete_frames = long(stats.incomplete);
+      status.retransmissions = c.gantry.retransmissions();
     }
     if (c.pose_captured) c.pose_captured(step.step, int(i));
   }

@@ -84,7 +84,8 @@ struct CaptureContext {
   // follows the confirmation (the simulated world). Without asking, `place` places it.
   bool ask_operator = true;
   std::function<void(const std::string& item)> place;
-  std::string placed;  // the item known to be under the gantry ("" after a restart)
+  std::string placed;     // the item known to be under the gantry ("" after a restart)
+  int prompts_shown = 0;  // operator prompts shown by this run: the next one's id
   // Told when a pose's frames are all in the session (taken now or before), and when a step is
   // captured: processing that can start then (background.h).
   std::function<void(const std::string& step, int pose)> pose_captured;

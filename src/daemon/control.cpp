@@ -1,35 +1,24 @@
 #include "daemon/control.h"
 
+#include <fcntl.h>
 #include <poll.h>
 #include <sys/socket.h>
 #include <sys/stat.h>
 #include <sys/un.h>
 #include <unistd.h>
 
+#include <nlohmann/json.hpp>
+
 #include <cerrno>
-#include <cstdio>
+#include <chrono>
 #include <cstdlib>
 #include <cstring>
+#include <vector>
 
 #include "core/error.h"
 
 namespace acq {
 namespace {
-
-std::string Quoted(const std::string& s) {
-  std::string out = "\"";
-  for (char c : s) {
-    if (c == '"' || c == '\\')
-      out += '\\', out += c;
-    else if (c == '\n')
-      out += "\\n";
-    else if (static_cast<unsigned char>(c) < 0x20)
-      out += ' ';
-    else
-      out += c;
-  }
-  return out + "\"";
-}
 
 sockaddr_un Address(const std::string& path) {
   sockaddr_un a{};
@@ -41,17 +30,112 @@ sockaddr_un Address(const std::string& path) {
   return a;
 }
 
+// Whether a process listens on the socket at `path` (connect succeeds), none does (the file is
+// absent, or a socket file nobody listens on: refused), or that cannot be told.
+enum class Listener { kNone, kStale, kLive };
+Listener ProbeListener(const std::string& path, const sockaddr_un& address) {
+  struct stat st;
+  if (::lstat(path.c_str(), &st) != 0) return Listener::kNone;
+  if (!S_ISSOCK(st.st_mode))
+    throw UserError(path, "exists and is not a socket",
+                    "give acqd a --socket path that is free (this file is left as it is)");
+  const int fd = ::socket(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0);
+  if (fd < 0) throw UserError(path, std::string("cannot create a socket: ") + strerror(errno));
+  const int rc = ::connect(fd, reinterpret_cast<const sockaddr*>(&address), sizeof address);
+  const int e = errno;
+  ::close(fd);
+  if (rc == 0) return Listener::kLive;
+  if (e == ECONNREFUSED) return Listener::kStale;
+  throw UserError(path,
+                  std::string("cannot tell whether an acqd listens here (") + strerror(e) + ")",
+                  e == EACCES ? "the socket belongs to another user; give this acqd its own "
+                                "--socket"
+                              : "give this acqd another --socket");
+}
+
+double MsSince(std::chrono::steady_clock::time_point t) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t).count();
+}
+
 }  // namespace
 
+const char* ToString(DaemonState s) {
+  switch (s) {
+    case DaemonState::kStarting:
+      return "starting";
+    case DaemonState::kRunning:
+      return "running";
+    case DaemonState::kPaused:
+      return "paused";
+    case DaemonState::kWaiting:
+      return "waiting";
+    case DaemonState::kAborted:
+      return "aborted";
+    case DaemonState::kStopped:
+      return "stopped";
+    case DaemonState::kDone:
+      return "done";
+    case DaemonState::kFailed:
+      return "failed";
+  }
+  return "?";
+}
+
+std::optional<DaemonState> ParseDaemonState(const std::string& text) {
+  for (DaemonState s :
+       {DaemonState::kStarting, DaemonState::kRunning, DaemonState::kPaused, DaemonState::kWaiting,
+        DaemonState::kAborted, DaemonState::kStopped, DaemonState::kDone, DaemonState::kFailed})
+    if (text == ToString(s)) return s;
+  return std::nullopt;
+}
+
+bool IsFinal(DaemonState s) {
+  return s == DaemonState::kAborted || s == DaemonState::kStopped || s == DaemonState::kDone ||
+         s == DaemonState::kFailed;
+}
+
+const char* ToString(CommandKind k) {
+  switch (k) {
+    case CommandKind::kPause:
+      return "pause";
+    case CommandKind::kResume:
+      return "resume";
+    case CommandKind::kAbort:
+      return "abort";
+    case CommandKind::kConfirm:
+      return "confirm";
+  }
+  return "?";
+}
+
+std::optional<CommandKind> ParseCommandKind(const std::string& text) {
+  for (CommandKind k :
+       {CommandKind::kPause, CommandKind::kResume, CommandKind::kAbort, CommandKind::kConfirm})
+    if (text == ToString(k)) return k;
+  return std::nullopt;
+}
+
 std::string SessionStatus::Json() const {
-  char numbers[512];
-  std::snprintf(numbers, sizeof numbers,
-                "\"progress\": %.4f, \"eta_s\": %.1f, \"arms_deg\": [%.3f, %.3f, %.3f, %.3f], "
-                "\"frames\": %ld, \"incomplete_frames\": %ld, \"retransmissions\": %ld",
-                progress, eta_s, arms_deg[0], arms_deg[1], arms_deg[2], arms_deg[3], frames,
-                incomplete_frames, retransmissions);
-  return "{\"state\": " + Quoted(state) + ", \"step\": " + Quoted(step) + ", " + numbers +
-         ", \"prompt\": " + Quoted(prompt) + ", \"last_error\": " + Quoted(last_error) + "}";
+  // nlohmann writes NaN and infinities as null: the line stays valid JSON whatever is published.
+  nlohmann::ordered_json j;
+  j["state"] = ToString(state);
+  j["step"] = step;
+  j["progress"] = progress;
+  j["eta_s"] = eta_s;
+  j["arms_deg"] = {arms_deg[0], arms_deg[1], arms_deg[2], arms_deg[3]};
+  j["frames"] = frames;
+  j["incomplete_frames"] = incomplete_frames;
+  j["retransmissions"] = retransmissions;
+  j["prompt"] = prompt;
+  j["prompt_id"] = prompt_id;
+  j["last_error"] = last_error;
+  // One line, "key": value as acqd always wrote it; nlohmann escapes every text. Invalid UTF-8
+  // (a device's name, say) is replaced rather than thrown on.
+  std::string line = "{";
+  for (const auto& [key, value] : j.items())
+    line += (line.size() > 1 ? ", " : "") + nlohmann::json(key).dump() + ": " +
+            value.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+  return line + "}";
 }
 
 std::string DefaultControlSocket() {
@@ -62,23 +146,24 @@ std::string DefaultControlSocket() {
 
 ControlServer::ControlServer(std::string path, bool shared_group) : path_(std::move(path)) {
   const sockaddr_un address = Address(path_);
-  // Someone answering there is another acqd; a socket file nobody answers is stale.
-  try {
-    ControlRequest(path_, "status", 500);
-    throw UserError(path_, "another acqd is running and answers on this control socket",
-                    "stop it (`acqctl abort`) or give this one another --socket");
-  } catch (const UserError& e) {
-    if (e.problem().find("another acqd") != std::string::npos) throw;
+  switch (ProbeListener(path_, address)) {
+    case Listener::kLive:
+      throw UserError(path_, "another acqd is running and listens on this control socket",
+                      "stop it (`acqctl abort`) or give this one another --socket");
+    case Listener::kStale:
+      ::unlink(path_.c_str());  // a socket file whose acqd is gone
+      break;
+    case Listener::kNone:
+      break;
   }
-  ::unlink(path_.c_str());
-  listener_ = ::socket(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0);
+  listener_ = ::socket(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC | SOCK_NONBLOCK, 0);
   if (listener_ < 0)
     throw UserError(path_, std::string("cannot create a socket: ") + strerror(errno));
   // Created with the right mode from the start (no window in which others could connect).
   const mode_t old = ::umask(shared_group ? 0117 : 0177);
   const int bound = ::bind(listener_, reinterpret_cast<const sockaddr*>(&address), sizeof address);
   ::umask(old);
-  if (bound != 0 || ::listen(listener_, 8) != 0) {
+  if (bound != 0 || ::listen(listener_, 64) != 0) {
     const std::string why = strerror(errno);
     ::close(listener_);
     throw UserError(path_, "cannot listen: " + why, "check the folder exists and is writable");
@@ -98,45 +183,110 @@ void ControlServer::Publish(const SessionStatus& status) {
   status_ = status;
 }
 
-std::string ControlServer::TakeCommand() {
+std::optional<ControlCommand> ControlServer::TakeCommand() {
   std::lock_guard<std::mutex> lock(mutex_);
-  if (commands_.empty()) return {};
-  std::string c = commands_.front();
+  if (commands_.empty()) return std::nullopt;
+  const ControlCommand c = commands_.front();
   commands_.pop_front();
   return c;
+}
+
+// Called with mutex_ held.
+std::string ControlServer::Confirm(const std::string& argument) {
+  const int showing = status_.prompt.empty() ? 0 : status_.prompt_id;
+  if (showing == 0)
+    return "error no operator prompt is showing: there is nothing to confirm (`acqctl status` "
+           "shows the prompt when there is one)";
+  int id = showing;
+  if (!argument.empty()) {
+    char* end = nullptr;
+    const long asked = std::strtol(argument.c_str(), &end, 10);
+    if (*end != '\0' || asked <= 0)
+      return "error confirm takes a prompt id (a whole number), not '" + argument + "'";
+    id = int(asked);
+  }
+  if (id != showing)
+    return "error prompt " + std::to_string(id) + " is not showing; prompt " +
+           std::to_string(showing) + " is: " + status_.prompt;
+  if (confirmed_prompt_ == id)
+    return "error prompt " + std::to_string(id) + " is already confirmed";
+  confirmed_prompt_ = id;
+  commands_.push_back({CommandKind::kConfirm, id});
+  return "ok confirm of prompt " + std::to_string(id) + " queued: " + status_.prompt;
 }
 
 std::string ControlServer::Answer(const std::string& request) {
   std::lock_guard<std::mutex> lock(mutex_);
   if (request == "status") return status_.Json();
-  if (request == "pause" || request == "resume" || request == "abort" || request == "confirm") {
-    commands_.push_back(request);
-    return "ok " + request + " queued; the sequencer takes it at its next safe point";
-  }
-  return "error unknown request '" + request + "' (status, pause, resume, abort, confirm)";
+  const std::size_t space = request.find(' ');
+  const std::string verb = request.substr(0, space);
+  const std::string argument = space == std::string::npos ? "" : request.substr(space + 1);
+  const std::optional<CommandKind> kind = ParseCommandKind(verb);
+  if (!kind)
+    return "error unknown request '" + request + "' (status, pause, resume, abort, confirm)";
+  if (*kind == CommandKind::kConfirm) return Confirm(argument);
+  if (!argument.empty()) return "error " + verb + " takes no argument";
+  commands_.push_back({*kind, 0});
+  return "ok " + verb + " queued; the sequencer takes it at its next safe point";
 }
 
+namespace {
+
+struct Client {
+  int fd;
+  std::string line;
+  std::chrono::steady_clock::time_point connected;
+};
+
+// A whole reply or nothing: a client that cannot take a line at once is not waited for.
+void SendReply(int fd, const std::string& reply) {
+  (void)!::send(fd, reply.data(), reply.size(), MSG_NOSIGNAL | MSG_DONTWAIT);
+}
+
+}  // namespace
+
 void ControlServer::Serve() {
+  std::vector<Client> clients;
   while (!stop_) {
-    pollfd p{listener_, POLLIN, 0};
-    if (::poll(&p, 1, 50) <= 0) continue;  // 50 ms: how soon the destructor is noticed
-    const int client = ::accept4(listener_, nullptr, nullptr, SOCK_CLOEXEC);
-    if (client < 0) continue;
-    // One short request line; a client that sends nothing within 200 ms is dropped, so a stuck
-    // client cannot hold up others.
-    std::string line;
-    char buffer[256];
-    pollfd c{client, POLLIN, 0};
-    while (line.find('\n') == std::string::npos && line.size() < 1024 && ::poll(&c, 1, 200) > 0) {
-      const ssize_t n = ::read(client, buffer, sizeof buffer);
-      if (n <= 0) break;
-      line.append(buffer, std::size_t(n));
+    std::vector<pollfd> fds{{listener_, POLLIN, 0}};
+    for (const Client& c : clients) fds.push_back({c.fd, POLLIN, 0});
+    ::poll(fds.data(), fds.size(), 50);  // 50 ms: how soon the destructor is noticed
+    if (fds[0].revents & POLLIN) {
+      for (int fd;
+           (fd = ::accept4(listener_, nullptr, nullptr, SOCK_CLOEXEC | SOCK_NONBLOCK)) >= 0;) {
+        if (int(clients.size()) >= kMaxClients) {
+          SendReply(fd, "error busy: " + std::to_string(kMaxClients) + " clients connected\n");
+          ::close(fd);
+          continue;
+        }
+        clients.push_back({fd, {}, std::chrono::steady_clock::now()});
+      }
     }
-    const std::string request = line.substr(0, line.find('\n'));
-    const std::string reply = Answer(request) + "\n";
-    (void)!::write(client, reply.data(), reply.size());
-    ::close(client);
+    std::vector<Client> open;
+    for (std::size_t i = 0; i < clients.size(); ++i) {
+      Client& c = clients[i];
+      bool finished = false;
+      if (fds[i + 1].revents & (POLLIN | POLLHUP | POLLERR)) {
+        char buffer[256];
+        const ssize_t n = ::read(c.fd, buffer, sizeof buffer);
+        if (n > 0) c.line.append(buffer, std::size_t(n));
+        finished = n == 0 || (n < 0 && errno != EAGAIN && errno != EINTR) ||
+                   c.line.find('\n') != std::string::npos || c.line.size() >= 1024;
+      }
+      if (finished) {
+        if (!c.line.empty()) SendReply(c.fd, Answer(c.line.substr(0, c.line.find('\n'))) + "\n");
+        ::close(c.fd);
+      } else if (MsSince(c.connected) > kClientDeadlineMs) {
+        SendReply(c.fd,
+                  "error no request line within " + std::to_string(kClientDeadlineMs) + " ms\n");
+        ::close(c.fd);
+      } else {
+        open.push_back(c);
+      }
+    }
+    clients.swap(open);
   }
+  for (const Client& c : clients) ::close(c.fd);
 }
 
 std::string ControlRequest(const std::string& path, const std::string& request, int timeout_ms) {
@@ -151,11 +301,14 @@ std::string ControlRequest(const std::string& path, const std::string& request, 
                                 : "is acqd running? give its socket with --socket");
   }
   const std::string line = request + "\n";
-  (void)!::write(fd, line.data(), line.size());
+  (void)!::send(fd, line.data(), line.size(), MSG_NOSIGNAL);
   std::string reply;
   char buffer[1024];
   pollfd p{fd, POLLIN, 0};
-  while (reply.find('\n') == std::string::npos && ::poll(&p, 1, timeout_ms) > 0) {
+  const auto start = std::chrono::steady_clock::now();
+  while (reply.find('\n') == std::string::npos) {
+    const int left = timeout_ms - int(MsSince(start));
+    if (left <= 0 || ::poll(&p, 1, left) <= 0) break;
     const ssize_t n = ::read(fd, buffer, sizeof buffer);
     if (n <= 0) break;
     reply.append(buffer, std::size_t(n));

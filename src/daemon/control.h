@@ -5,28 +5,60 @@
 // Commands (pause, resume, abort, confirm) are queued for the sequencer to take at its next
 // safe point.
 //
-// Protocol: one request line ("status", "pause", "resume", "abort", "confirm"), one reply line
-// (status: a JSON object; commands: "ok ..." or "error ...").
+// Protocol: one request line ("status", "pause", "resume", "abort", "confirm [PROMPT_ID]"), one
+// reply line (status: a JSON object; commands: "ok ..." or "error ..."). A confirmation counts
+// only for the operator prompt showing when it arrives (issue 22): each prompt has an id, a
+// confirm while none shows, or naming a prompt no longer showing, is refused.
+//
+// The server multiplexes its clients with poll (issue 22): a slow or silent client holds only
+// its own slot (each has a deadline), never another's answer; replies are sent without SIGPIPE.
 #pragma once
 
 #include <atomic>
 #include <deque>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <thread>
 
 namespace acq {
 
+// What acqd is doing, as `acqctl status` shows it.
+enum class DaemonState {
+  kStarting,
+  kRunning,
+  kPaused,
+  kWaiting,
+  kAborted,
+  kStopped,
+  kDone,
+  kFailed
+};
+const char* ToString(DaemonState s);
+std::optional<DaemonState> ParseDaemonState(const std::string& text);
+// A state the daemon does not leave (acqctl watch stops there).
+bool IsFinal(DaemonState s);
+
 struct SessionStatus {
-  std::string state = "starting";     // starting, running, paused, waiting, aborting, done, failed
+  DaemonState state = DaemonState::kStarting;
   std::string step;                   // "sample pose 7 of 20, exposure 2 of 3"
   double progress = 0;                // 0..1 over the whole session
   double eta_s = -1;                  // seconds left, -1 unknown
   double arms_deg[4] = {0, 0, 0, 0};  // light theta/phi, camera theta/phi (measured)
   std::string prompt;                 // what an operator must do before `acqctl confirm`
+  int prompt_id = 0;                  // the prompt's id while one shows (1, 2, ...), else 0
   long frames = 0, incomplete_frames = 0, retransmissions = 0;
   std::string last_error;
-  std::string Json() const;
+  std::string Json() const;  // one line; NaN and infinities as null
+};
+
+enum class CommandKind { kPause, kResume, kAbort, kConfirm };
+const char* ToString(CommandKind k);
+std::optional<CommandKind> ParseCommandKind(const std::string& text);
+
+struct ControlCommand {
+  CommandKind kind;
+  int prompt_id = 0;  // kConfirm: the prompt it answers
 };
 
 // The default socket: $XDG_RUNTIME_DIR/acqd.sock, else /tmp/acqd-<uid>.sock.
@@ -35,20 +67,27 @@ std::string DefaultControlSocket();
 class ControlServer {
  public:
   // Binds `path` with mode 0600 (`shared_group`: 0660). Throws UserError when another acqd
-  // answers there; a stale socket left by a killed acqd is replaced.
+  // listens there, or when `path` exists and is not a socket (it is never deleted then); a
+  // socket file nobody listens on (left by a killed acqd) is replaced.
   explicit ControlServer(std::string path, bool shared_group = false);
-  ~ControlServer();
+  ~ControlServer();  // stops serving and removes the socket
   ControlServer(const ControlServer&) = delete;
   ControlServer& operator=(const ControlServer&) = delete;
 
   void Publish(const SessionStatus& status);
-  // The oldest command not yet taken ("pause", ...), or "" when none.
-  std::string TakeCommand();
+  // The oldest command not yet taken, if any.
+  std::optional<ControlCommand> TakeCommand();
   const std::string& path() const { return path_; }
+
+  // At most this many clients at once; one more is answered "error busy" and closed.
+  static constexpr int kMaxClients = 32;
+  // A client must send its request line within this time of connecting.
+  static constexpr int kClientDeadlineMs = 2000;
 
  private:
   void Serve();
   std::string Answer(const std::string& request);
+  std::string Confirm(const std::string& argument);
 
   std::string path_;
   int listener_ = -1;
@@ -56,7 +95,8 @@ class ControlServer {
   std::thread thread_;
   std::mutex mutex_;
   SessionStatus status_;
-  std::deque<std::string> commands_;
+  int confirmed_prompt_ = 0;  // the last prompt a confirm was accepted for
+  std::deque<ControlCommand> commands_;
 };
 
 // One request to the daemon at `path`; the reply line. Throws UserError when no acqd answers.

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "core/error.h"
+#include "core/stop_request.h"
 
 namespace acq {
 
@@ -24,9 +25,12 @@ void MoveAndWait(Gantry& gantry, const ArmAngles& target, const TrapezoidProfile
   MoveAndWait(gantry, target, MoveTimeoutSeconds(from, target, axis, settle_s));
 }
 
-void MoveAndWait(Gantry& gantry, const ArmAngles& target, double timeout_s) {
-  gantry.RenewLease(2000);
-  gantry.MoveTo(target);
+namespace {
+
+// Waits until the arms stand still, renewing the lease; throws on a fault, on a stop signal
+// (the arms stopped first) and when `timeout_s` passes on the controller's clock. `what`
+// names the motion in messages ("the move", "homing").
+void WaitUntilStill(Gantry& gantry, double timeout_s, const std::string& what) {
   // Elapsed time on the controller's clock: the time the move itself takes (a simulated gantry
   // runs faster than the wall clock). The wall clock only guards against a frozen device clock.
   const std::uint32_t start_ms = gantry.Status().device_clock_ms;
@@ -34,10 +38,15 @@ void MoveAndWait(Gantry& gantry, const ArmAngles& target, double timeout_s) {
   for (;;) {
     const GantryStatus s = gantry.Status();
     if (s.fault_bits)
-      throw UserError("gantry", "fault during the move (bits " + std::to_string(s.fault_bits) + ")",
+      throw UserError("gantry",
+                      "fault during " + what + " (bits " + std::to_string(s.fault_bits) + ")",
                       "the arms are stopped; check for an obstruction or a tripped limit, then "
                       "clear the fault and resume");
     if (!s.Moving()) return;
+    if (StopRequested()) {
+      gantry.Stop();
+      ThrowIfStopRequested();
+    }
     const double elapsed_s = std::uint32_t(s.device_clock_ms - start_ms) / 1000.0;  // wraps
     const double wall_s =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
@@ -45,12 +54,37 @@ void MoveAndWait(Gantry& gantry, const ArmAngles& target, double timeout_s) {
       char seconds[32];
       std::snprintf(seconds, sizeof seconds, "%.1f", timeout_s);
       gantry.Stop();
-      throw UserError("gantry", std::string("the arms did not arrive within ") + seconds + " s",
+      throw UserError("gantry", what + " did not end within " + seconds + " s",
                       "the arms were stopped; check the axis speeds in the plan against the "
                       "gantry's and look for an obstruction");
     }
     gantry.RenewLease(2000);
   }
+}
+
+}  // namespace
+
+void MoveAndWait(Gantry& gantry, const ArmAngles& target, double timeout_s) {
+  gantry.RenewLease(2000);
+  gantry.MoveTo(target);
+  WaitUntilStill(gantry, timeout_s, "the move");
+}
+
+double HomingTimeoutSeconds(const TrapezoidProfile& axis, double settle_s) {
+  // Homing may sweep an axis over its whole range (a half turn in theta, a whole one in phi).
+  return 1.5 * (axis.Duration(2 * M_PI) + settle_s) + 2.0;
+}
+
+void HomeAndWait(Gantry& gantry, double timeout_s) {
+  gantry.RenewLease(2000);
+  gantry.Home();
+  WaitUntilStill(gantry, timeout_s, "homing");
+  const GantryStatus s = gantry.Status();
+  if (!s.Homed())
+    throw UserError(
+        "gantry",
+        "homing ended with axes not homed (mask " + std::to_string(int(s.homed_mask)) + " of 15)",
+        "check the home switches and run acqd again");
 }
 
 }  // namespace acq

@@ -32,10 +32,13 @@ class Gantry {
   virtual void SetLight(bool on, double level) = 0;  // level in [0, 1]
   virtual void RenewLease(int milliseconds) = 0;
   virtual void ClearFaults(std::uint16_t bits) = 0;
+  // Requests the link sent again since the gantry was opened (0 where there is no link).
+  virtual int retransmissions() const { return 0; }
 };
 
 // Moves and waits until the arms have arrived and settled, renewing the lease meanwhile; throws
-// when the gantry reports a fault or does not arrive within `timeout_s`.
+// when the gantry reports a fault or does not arrive within `timeout_s`, and Stopped on a stop
+// signal (core/stop_request.h), the arms stopped first.
 void MoveAndWait(Gantry& gantry, const ArmAngles& target, double timeout_s);
 // The same with the timeout derived from the move: the slowest axis (`axis`, the slower of the
 // gantry's profiles) over the largest travel, plus the settle time, with 50 % and 2 s of margin
@@ -44,5 +47,10 @@ double MoveTimeoutSeconds(const ArmAngles& from, const ArmAngles& to, const Trap
                           double settle_s);
 void MoveAndWait(Gantry& gantry, const ArmAngles& target, const TrapezoidProfile& axis,
                  double settle_s);
+// Homes every axis and waits as a move does (faults, a stop signal, the timeout: a sweep of a
+// whole turn on the slowest axis, with the same margins); throws when an axis is not homed
+// after.
+double HomingTimeoutSeconds(const TrapezoidProfile& axis, double settle_s);
+void HomeAndWait(Gantry& gantry, double timeout_s);
 
 }  // namespace acq

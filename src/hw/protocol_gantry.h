@@ -40,7 +40,7 @@ class ProtocolGantry : public Gantry {
   void ClearFaults(std::uint16_t bits) override;
 
   std::uint32_t firmware_build() const { return firmware_build_; }
-  int retransmissions() const { return retransmissions_; }
+  int retransmissions() const override { return retransmissions_; }
   int reconnects() const { return reconnects_; }
 
  private:

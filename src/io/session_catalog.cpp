@@ -6,8 +6,10 @@
 #include <sqlite3.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
+#include <regex>
 #include <set>
 
 #include "core/error.h"
@@ -222,7 +224,46 @@ std::vector<std::pair<std::string, std::string>> SessionCatalog::Events() const 
   return out;
 }
 
+std::string FrameFileName(const std::string& step, int pose, double exposure_us) {
+  char name[128];
+  std::snprintf(name, sizeof name, "frames/%s_%03d_%.0fus.exr", step.c_str(), pose, exposure_us);
+  return name;
+}
+
+std::string BracketDecisionKey(const std::string& step, int pose) {
+  return "bracket/" + step + "/" + std::to_string(pose);
+}
+
+bool IsFrameFileName(const std::string& filename) {
+  static const std::regex frame("[a-z_]+_[0-9]{3,}_[0-9]+us\\.exr(\\.partial)?");
+  return std::regex_match(filename, frame);
+}
+
+std::vector<std::string> SessionCatalog::UnrecordedFrames() const {
+  std::set<std::string> named;
+  for (const CatalogFrame& f : Frames()) named.insert(fs::path(f.path).filename().string());
+  std::vector<std::string> out;
+  std::error_code ec;
+  for (const auto& e : fs::directory_iterator(fs::path(dir_) / "frames", ec)) {
+    const std::string name = e.path().filename().string();
+    if (!named.count(name) && IsFrameFileName(name) && name.find(".partial") == std::string::npos)
+      out.push_back("frames/" + name);
+  }
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
 SessionCatalog::Repair SessionCatalog::VerifyAndRepair() {
+  const std::vector<std::string> unrecorded = UnrecordedFrames();
+  if (unrecorded.size() > 1)
+    throw UserError(path_,
+                    "the catalog does not record " + std::to_string(unrecorded.size()) +
+                        " frames that lie in " + dir_ + "/frames (" + unrecorded.front() +
+                        ", ...): a crash leaves at most one; the catalog was emptied, replaced "
+                        "or lost rows",
+                    "nothing was deleted; rebuild the catalog from the frames' own metadata "
+                    "with `acq session repair " +
+                        dir_ + "`, then run acqd again");
   Repair r;
   std::set<std::string> named;
   for (const CatalogFrame& f : Frames()) {
@@ -243,12 +284,20 @@ SessionCatalog::Repair SessionCatalog::VerifyAndRepair() {
   std::error_code ec;
   for (const auto& e : fs::directory_iterator(fs::path(dir_) / "frames", ec)) {
     if (named.count(e.path().lexically_normal().string())) continue;
-    r.orphans.push_back(e.path().filename().string());
+    const std::string name = e.path().filename().string();
+    if (!IsFrameFileName(name) || !e.is_regular_file()) {
+      r.unknown.push_back(name);  // not acqd's: left where it is
+      continue;
+    }
+    r.orphans.push_back(name);
     fs::remove(e.path(), ec);
   }
   if (!r.bad.empty() || !r.orphans.empty())
     Event("warning", "resume: " + std::to_string(r.bad.size()) + " damaged frames dropped, " +
                          std::to_string(r.orphans.size()) + " unrecorded files removed");
+  if (!r.unknown.empty())
+    Event("warning", "frames/ holds " + std::to_string(r.unknown.size()) +
+                         " files acqd did not write (left alone), e.g. " + r.unknown.front());
   return r;
 }
 

@@ -3,8 +3,12 @@
 // consistent session. The rules: a file is written under a temporary name and renamed into
 // place first; its row (with the file's SHA-256) is committed after; a row exists only for a
 // complete file. On resume, VerifyAndRepair() checks every row's file against its checksum and
-// removes files that no row names (a crash between the rename and the commit), so nothing is
-// taken as done that is not, and nothing is recorded twice.
+// removes the frame file that no row names (a crash between the rename and the commit), so
+// nothing is taken as done that is not, and nothing is recorded twice. It deletes only what acqd
+// writes (frame files by their name, docs/session-and-plan.md): any other file is left and
+// reported (issue 22). More than one unrecorded frame cannot come from a crash (frames are
+// recorded one at a time): a catalog that lost its rows is refused, never "repaired" by deleting
+// the frames; `acq session repair` rebuilds it from the frames' own metadata.
 #pragma once
 
 #include <cstdint>
@@ -58,15 +62,27 @@ class SessionCatalog {
   struct Repair {
     int verified = 0;
     std::vector<std::string> bad;      // rows whose file was missing or changed: removed
-    std::vector<std::string> orphans;  // files under frames/ that no row names: removed
+    std::vector<std::string> orphans;  // acqd's files under frames/ that no row names: removed
+    std::vector<std::string> unknown;  // other files under frames/: left alone
   };
+  // Throws UserError (before removing anything) when frames/ holds more than one frame file the
+  // catalog does not record.
   Repair VerifyAndRepair();
+  // The frame files under frames/ that no row names (names relative to the session).
+  std::vector<std::string> UnrecordedFrames() const;
 
  private:
   void Exec(const char* sql) const;
   std::string dir_, path_;
   sqlite3* db_ = nullptr;
 };
+
+// The session's name for a frame file ("frames/sample_007_16000us.exr"), and whether a file
+// name under frames/ is one acqd writes (a frame, or one being written: ".partial").
+std::string FrameFileName(const std::string& step, int pose, double exposure_us);
+// The decision key of the automatic bracket chosen at a pose ("bracket/sample/7").
+std::string BracketDecisionKey(const std::string& step, int pose);
+bool IsFrameFileName(const std::string& filename);
 
 // Writes `bytes` to `path` as the catalog requires: to path + ".partial", flushed to disk, then
 // renamed over `path` (atomic on POSIX), then the directory synced.

@@ -1,0 +1,210 @@
+#include "acq/plan_record.h"
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+
+#include "core/angles.h"
+#include "core/error.h"
+#include "core/sha256.h"
+#include "io/session_catalog.h"
+
+namespace acq {
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr const char* kSettingsFile = "plan_settings.tsv";
+// Files up to this size are copied into the session with the plan (directions, camera models,
+// material fits); larger ones (a basis) are recorded by checksum only.
+constexpr std::uintmax_t kCopyLimitBytes = 16u << 20;
+
+std::string Number(double v) {
+  char text[40];
+  std::snprintf(text, sizeof text, "%.12g", v);
+  return text;
+}
+
+std::string Numbers(const std::vector<double>& values) {
+  std::string out;
+  for (double v : values) out += (out.empty() ? "" : " ") + Number(v);
+  return out;
+}
+
+std::string FileValue(const std::string& path) {
+  return path.empty() ? ""
+                      : "sha256:" + Sha256OfFile(path) + " " + fs::path(path).filename().string();
+}
+
+std::string DirectionValue(const Direction& d) {
+  const RusinkiewiczAngles& a = d.angles;
+  return Numbers({RadToDeg(a.theta_h), RadToDeg(a.theta_d), RadToDeg(a.phi_d)});
+}
+
+class Settings {
+ public:
+  void Capture(const std::string& key, const std::string& value) {
+    out.push_back({PlanSetting::Kind::kCapture, key, value});
+  }
+  void Processing(const std::string& key, const std::string& value) {
+    out.push_back({PlanSetting::Kind::kProcessing, key, value});
+  }
+  void Directions(const std::string& key, const std::vector<Direction>& directions) {
+    Capture(key + ".count", std::to_string(directions.size()));
+    for (std::size_t i = 0; i < directions.size(); ++i)
+      Capture(key + "[" + std::to_string(i + 1) + "]", DirectionValue(directions[i]));
+  }
+  std::vector<PlanSetting> out;
+};
+
+const char* KindName(PlanSetting::Kind k) {
+  return k == PlanSetting::Kind::kCapture ? "capture" : "processing";
+}
+
+std::vector<PlanSetting> ReadSettings(const std::string& path) {
+  std::ifstream in(path);
+  std::vector<PlanSetting> out;
+  std::string line;
+  for (int n = 1; std::getline(in, line); ++n) {
+    if (line.empty() || line[0] == '#') continue;
+    const std::size_t a = line.find('\t'), b = line.find('\t', a + 1);
+    if (a == std::string::npos || b == std::string::npos)
+      throw UserError(path + ":" + std::to_string(n), "not a plan setting line",
+                      "this file is acqd's own; restore it from a backup or start a new session");
+    const std::string kind = line.substr(0, a);
+    out.push_back({kind == "capture" ? PlanSetting::Kind::kCapture : PlanSetting::Kind::kProcessing,
+                   line.substr(a + 1, b - a - 1), line.substr(b + 1)});
+  }
+  return out;
+}
+
+void WriteSettings(const std::vector<PlanSetting>& settings, const std::string& path) {
+  std::ostringstream text;
+  text << "# kind\tkey\tvalue: the plan this session was captured with (acqd, issue 22)\n";
+  for (const PlanSetting& s : settings)
+    text << KindName(s.kind) << '\t' << s.key << '\t' << s.value << '\n';
+  const std::string bytes = text.str();
+  WriteFileAtomically(path, bytes.data(), bytes.size());
+}
+
+// The plan file and the files it names that are small enough, copied into the session.
+void CopyPlanFiles(const Plan& plan, const std::string& session) {
+  const std::string text = [&] {
+    std::ifstream in(plan.path);
+    std::stringstream s;
+    s << in.rdbuf();
+    return s.str();
+  }();
+  WriteFileAtomically(session + "/plan.yaml", text.data(), text.size());
+  std::vector<std::string> files = {plan.directions_file, plan.validation_file,
+                                    plan.intrinsics_file};
+  files.insert(files.end(), plan.sim_materials.begin(), plan.sim_materials.end());
+  std::error_code ec;
+  fs::create_directories(session + "/plan_files", ec);
+  for (const std::string& f : files) {
+    if (f.empty() || !fs::is_regular_file(f, ec) || fs::file_size(f, ec) > kCopyLimitBytes)
+      continue;
+    fs::copy_file(f, session + "/plan_files/" + fs::path(f).filename().string(),
+                  fs::copy_options::overwrite_existing, ec);
+  }
+}
+
+}  // namespace
+
+std::vector<PlanSetting> PlanSettings(const Plan& plan) {
+  Settings s;
+  s.Capture("backend", BackendName(plan.backend));
+  if (plan.backend == Backend::kReplay) s.Capture("replay", plan.replay_session);
+  s.Capture("sample.size_mm", Numbers({plan.sample_width_mm, plan.sample_height_mm}));
+  if (plan.backend == Backend::kUsbAravis) s.Capture("gantry.usb", plan.usb.Describe());
+  const DirectionConstraints& c = plan.motion.constraints;
+  s.Capture("gantry.limits", Numbers({RadToDeg(c.max_camera_zenith), RadToDeg(c.max_light_zenith),
+                                      RadToDeg(c.min_separation)}));
+  const GantryMotion& m = plan.motion;
+  s.Capture("gantry.axes",
+            Numbers({RadToDeg(m.theta.speed), RadToDeg(m.theta.acceleration), RadToDeg(m.phi.speed),
+                     RadToDeg(m.phi.acceleration), m.settle_s}));
+  s.Capture("gantry.camera_distance_mm", Number(plan.camera_distance_mm));
+  s.Capture("gantry.light_distance_mm", Number(plan.light_distance_mm));
+  s.Capture("camera.id", plan.camera_id);
+  s.Capture("camera.pixel_format", PixelFormatName(plan.camera.pixel_format));
+  s.Capture("camera.gain_db", Number(plan.camera.gain_db));
+  s.Capture("camera.hdr", plan.auto_bracket ? "auto" : Numbers(plan.bracket_us));
+  s.Directions("directions", plan.directions);
+  s.Directions("directions.validation", plan.validation);
+  s.Capture("calibration.intrinsics_captures", std::to_string(plan.intrinsics_captures));
+  s.Capture("calibration.board", Numbers({double(plan.board_width_n), double(plan.board_height_n),
+                                          plan.board_spacing_mm}));
+  s.Capture("spectralon", plan.spectralon ? "true" : "false");
+  if (plan.backend == Backend::kSim) {
+    for (std::size_t i = 0; i < plan.sim_materials.size(); ++i)
+      s.Capture("sim.materials[" + std::to_string(i + 1) + "]", FileValue(plan.sim_materials[i]));
+    s.Capture("sim.seed", std::to_string(plan.sim_seed));
+    s.Capture("sim.light_intensity", Number(plan.sim_light_intensity));
+  }
+  // Processing only: the frames stay what they are.
+  s.Processing("calibration.camera_model", FileValue(plan.intrinsics_file));
+  s.Processing("calibration.lensmodel", plan.lensmodel);
+  s.Processing("reconstruction.basis", FileValue(plan.basis_file));
+  s.Processing("reconstruction.k", std::to_string(plan.components));
+  s.Processing("reconstruction.eta", Number(plan.eta));
+  s.Processing("reconstruction.lookup",
+               plan.lookup == RowLookup::kNearest ? "nearest" : "interpolated");
+  s.Processing("reconstruction.row_tile", std::to_string(plan.row_tile));
+  return s.out;
+}
+
+PlanCheck RecordOrCheckPlan(const Plan& plan, const std::string& session, SessionCatalog& catalog) {
+  const std::string path = session + "/" + kSettingsFile;
+  const std::vector<PlanSetting> now = PlanSettings(plan);
+  PlanCheck check;
+  if (!fs::exists(path)) {
+    // A session captured before plans were recorded has frames and no record: its plan is taken
+    // as given (said in the catalog), as it always was.
+    if (!catalog.Frames().empty())
+      catalog.Event("warning", "the session's plan was not recorded (an older acqd): " + plan.path +
+                                   " is recorded now as its plan");
+    CopyPlanFiles(plan, session);
+    WriteSettings(now, path);
+    check.first_run = true;
+    return check;
+  }
+  std::map<std::string, PlanSetting> recorded;
+  for (const PlanSetting& s : ReadSettings(path)) recorded[s.key] = s;
+  std::string capture_differences;
+  int differences = 0;
+  std::map<std::string, bool> seen;
+  auto differ = [&](const std::string& key, const std::string& was, const std::string& is) {
+    if (++differences <= 12)
+      capture_differences += "\n  " + key + ": " + (was.empty() ? "(none)" : was) + " -> " +
+                             (is.empty() ? "(none)" : is);
+  };
+  for (const PlanSetting& s : now) {
+    seen[s.key] = true;
+    const auto r = recorded.find(s.key);
+    const std::string was = r == recorded.end() ? "" : r->second.value;
+    if (was == s.value) continue;
+    if (s.kind == PlanSetting::Kind::kCapture)
+      differ(s.key, was, s.value);
+    else
+      check.processing_changes.push_back(s.key + ": " + was + " -> " + s.value);
+  }
+  for (const auto& [key, s] : recorded)
+    if (!seen.count(key) && s.kind == PlanSetting::Kind::kCapture) differ(key, s.value, "");
+  if (differences > 0)
+    throw UserError(plan.path,
+                    "differs from the plan session " + session + " was captured with, in " +
+                        std::to_string(differences) + " setting" + (differences > 1 ? "s" : "") +
+                        " that change what is captured:" + capture_differences +
+                        (differences > 12 ? "\n  ..." : "") + "\n",
+                    "resume with the session's own plan (" + session +
+                        "/plan.yaml), or give this plan a new output directory");
+  for (const std::string& change : check.processing_changes)
+    catalog.Event("info", "plan changed for processing: " + change);
+  if (!check.processing_changes.empty()) WriteSettings(now, path);
+  return check;
+}
+
+}  // namespace acq

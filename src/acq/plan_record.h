@@ -1,0 +1,38 @@
+// A session remembers its plan (issue 22; docs/session-and-plan.md): at its first run the plan
+// is copied into the session (plan.yaml, the files it names that are small enough, beside it in
+// plan_files/) and its settings are recorded in plan_settings.tsv: every setting that changes
+// what is captured, and every processing setting, the files named by their SHA-256. A later
+// run (a resume) with a plan that differs in a capture setting is refused with the differences
+// listed, since its frames would mix two sessions in one map; processing settings may change
+// (a new k, another basis), and each change is recorded as an event in the catalog.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "acq/plan.h"
+
+namespace acq {
+
+class SessionCatalog;
+
+struct PlanSetting {
+  enum class Kind { kCapture, kProcessing };
+  Kind kind;
+  std::string key;    // the plan's key ("camera.hdr.bracket_us", "directions[3]")
+  std::string value;  // as text; files as "sha256:<hex> <path>"
+};
+
+// The settings of a plan, capture then processing, in a fixed order.
+std::vector<PlanSetting> PlanSettings(const Plan& plan);
+
+struct PlanCheck {
+  bool first_run = false;                       // the plan was recorded now
+  std::vector<std::string> processing_changes;  // "reconstruction.k: 20 -> 10"
+};
+
+// Records the plan into `session` at its first run, or checks it against the recorded one.
+// Throws UserError listing every capture setting that differs.
+PlanCheck RecordOrCheckPlan(const Plan& plan, const std::string& session, SessionCatalog& catalog);
+
+}  // namespace acq
