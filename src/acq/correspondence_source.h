@@ -38,6 +38,7 @@ struct SessionView {
   Eigen::Vector3d light_in_sample_mm = Eigen::Vector3d(0, 0, 1000);
   double light_intensity = 1;  // radiance units x mm^2, for the point-light model
   std::string name;            // for messages ("view 7", a file name)
+  int pose = -1;               // its pose in the session's step (files are named by it), or -1
 };
 
 class CorrespondenceSource : public ObservationSource {

@@ -1,6 +1,8 @@
 #include "acq/session_repair.h"
 
 #include <algorithm>
+#include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <map>
 #include <sstream>
@@ -42,14 +44,29 @@ bool ReadIdentity(const std::string& session, const std::string& relative, Found
     pose_index = std::stoi(pose->second);
   } catch (const std::exception&) {
   }
-  if (pose_index < 0 || FrameFileName(step->second, pose_index, frame.exposure_us) != relative) {
+  const auto bracket = attributes.find("bracket_us");
+  out->bracket = bracket == attributes.end() ? "" : bracket->second;
+  // The catalog keys a frame by the exposure asked for (the camera reports what it set, which
+  // may differ by its step): the bracket's value that names this file, else (frames written
+  // before the attribute) the name's own, when it agrees with the camera's to its rounding.
+  double exposure = -1;
+  std::istringstream asked(out->bracket);
+  for (double t; asked >> t;)
+    if (pose_index >= 0 && FrameFileName(step->second, pose_index, t) == relative) exposure = t;
+  if (exposure < 0) {
+    const std::size_t us = relative.rfind("us.exr"), underscore = relative.rfind('_', us);
+    const double named = us == std::string::npos || underscore == std::string::npos
+                             ? -1
+                             : std::atof(relative.substr(underscore + 1, us - underscore - 1).c_str());
+    if (std::abs(named - frame.exposure_us) <= 1.5) exposure = named;
+  }
+  if (pose_index < 0 || exposure < 0 ||
+      FrameFileName(step->second, pose_index, exposure) != relative) {
     *why = "its metadata (step " + step->second + ", pose " + pose->second + ", exposure " +
            std::to_string(frame.exposure_us) + " us) does not match its name";
     return false;
   }
-  out->row = {step->second, pose_index, frame.exposure_us, relative, "", 0};
-  const auto bracket = attributes.find("bracket_us");
-  out->bracket = bracket == attributes.end() ? "" : bracket->second;
+  out->row = {step->second, pose_index, exposure, relative, "", 0};
   return true;
 }
 

@@ -129,6 +129,12 @@ const std::map<std::string, Command>& Commands() {
         "    [--partial-boards] [--render]\n"
         "  Boards seen by a known camera: truth.cameramodel, corners.vnl, poses.tsv and, with\n"
         "  --render, the images."}},
+      {"session repair",
+       {SessionRepair,
+        "acq session repair SESSION\n"
+        "  Rebuilds a session's catalog from its frames' own metadata (step, pose, exposure,\n"
+        "  bracket) after catalog.sqlite was lost or emptied; deletes nothing. acqd refuses to\n"
+        "  resume such a session and names this command."}},
   };
   return commands;
 }

@@ -1,6 +1,7 @@
 #include "cli/args.h"
 
 #include <cctype>
+#include <cmath>
 #include <sstream>
 
 #include "core/error.h"
@@ -63,28 +64,54 @@ std::vector<std::string> Args::All(const std::string& name) const {
   return out;
 }
 
-int Args::GetInt(const std::string& name, int fallback) const {
-  if (!Has(name)) return fallback;
-  const std::string v = Get(name);
-  std::size_t used = 0;
-  try {
-    const int x = std::stoi(v, &used);
-    if (used == v.size()) return x;
-  } catch (const std::exception&) {
-  }
-  throw UserError(command_ + " --" + name, "expected an integer, got '" + v + "'");
+namespace {
+
+template <class T>
+std::string Text(T v) {
+  std::ostringstream s;
+  s << v;
+  return s.str();
 }
 
-double Args::GetDouble(const std::string& name, double fallback) const {
+}  // namespace
+
+int Args::GetInt(const std::string& name, int fallback, int lo, int hi) const {
   if (!Has(name)) return fallback;
   const std::string v = Get(name);
   std::size_t used = 0;
+  int x = 0;
   try {
-    const double x = std::stod(v, &used);
-    if (used == v.size()) return x;
+    x = std::stoi(v, &used);
   } catch (const std::exception&) {
+    used = 0;
   }
-  throw UserError(command_ + " --" + name, "expected a number, got '" + v + "'");
+  if (used != v.size() || v.empty())
+    throw UserError(command_ + " --" + name, "expected an integer, got '" + v + "'");
+  if (x < lo || x > hi)
+    throw UserError(command_ + " --" + name,
+                    v + " is outside " + Text(lo) + " to " + Text(hi),
+                    "see `" + command_ + " --help`");
+  return x;
+}
+
+double Args::GetDouble(const std::string& name, double fallback, double lo, double hi) const {
+  if (!Has(name)) return fallback;
+  const std::string v = Get(name);
+  std::size_t used = 0;
+  double x = 0;
+  try {
+    x = std::stod(v, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (used != v.size() || v.empty())
+    throw UserError(command_ + " --" + name, "expected a number, got '" + v + "'");
+  if (!std::isfinite(x))
+    throw UserError(command_ + " --" + name, "expected a finite number, got '" + v + "'");
+  if (x < lo || x > hi)
+    throw UserError(command_ + " --" + name, v + " is outside " + Text(lo) + " to " + Text(hi),
+                    "see `" + command_ + " --help`");
+  return x;
 }
 
 }  // namespace acq::cli

@@ -3,6 +3,7 @@
 // the command and the option.
 #pragma once
 
+#include <climits>
 #include <map>
 #include <set>
 #include <string>
@@ -20,8 +21,11 @@ class Args {
   std::string Get(const std::string& name, const std::string& fallback = {}) const;
   std::string Required(const std::string& name) const;
   std::vector<std::string> All(const std::string& name) const;  // every value, comma-split too
-  int GetInt(const std::string& name, int fallback) const;
-  double GetDouble(const std::string& name, double fallback) const;
+  // Numbers are range-checked here, in one place (issue 22): every double must be finite (nan,
+  // inf and 1e999 are refused), and each value given must lie in [lo, hi].
+  int GetInt(const std::string& name, int fallback, int lo = INT_MIN, int hi = INT_MAX) const;
+  double GetDouble(const std::string& name, double fallback, double lo = -1e300,
+                   double hi = 1e300) const;
   const std::vector<std::string>& positionals() const { return positionals_; }
 
  private:

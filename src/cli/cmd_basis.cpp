@@ -20,11 +20,11 @@ int BasisBuild(const Argv& argv) {
                   {"quiet"});
   const std::string out = args.Has("o") ? args.Get("o") : args.Required("output");
   HoldOut hold_out;
-  hold_out.every = args.GetInt("holdout-every", 0);
-  hold_out.offset = args.GetInt("holdout-offset", 0);
+  hold_out.every = args.GetInt("holdout-every", 0, 0, 100000);
+  hold_out.offset = args.GetInt("holdout-offset", 0, 0, 100000);
   hold_out.names = args.All("holdout");
   BasisOptions options;
-  options.components = args.GetInt("components", options.components);
+  options.components = args.GetInt("components", options.components, 1, 1024);
   options.progress = !args.Has("quiet");
   const MaterialSplit split = SplitMaterials(ListMaterials(args.positionals()), hold_out);
   options.Check(int(3 * split.training.size()));
@@ -74,8 +74,8 @@ int BasisEval(const Argv& argv) {
   const MappedBasis mapped = MappedBasis::Open(basis_path);
   const BasisView& basis = mapped.View();
   RidgeOptions ridge;
-  ridge.components = args.GetInt("k", ridge.components);
-  ridge.eta = args.GetDouble("eta", ridge.eta);
+  ridge.components = args.GetInt("k", ridge.components, 1, 1024);
+  ridge.eta = args.GetDouble("eta", ridge.eta, 0, 1e12);
   ridge.Check(basis);
   const std::vector<Direction> directions = ReadDirectionsTsv(args.Required("directions"));
   const std::vector<std::size_t> bins = BinsOf(directions);

@@ -271,13 +271,13 @@ int CalibrateSynthesize(const Argv& argv) {
   const BoardSpec board =
       ParseBoardSize(args.Get("board", "10x10"), args.GetDouble("spacing-mm", 25), "--board");
   BoardPoseSampling sampling;
-  sampling.min_distance_mm = args.GetDouble("min-distance-mm", 300);
-  sampling.max_distance_mm = args.GetDouble("max-distance-mm", 600);
+  sampling.min_distance_mm = args.GetDouble("min-distance-mm", 300, 1, 1e6);
+  sampling.max_distance_mm = args.GetDouble("max-distance-mm", 600, 1, 1e6);
   sampling.max_tilt_deg = args.GetDouble("max-tilt-deg", sampling.max_tilt_deg);
   sampling.centre_spread = args.GetDouble("centre-spread", sampling.centre_spread);
   sampling.whole_board_in_view = !args.Has("partial-boards");
   sampling.seed = static_cast<std::uint64_t>(args.GetInt("seed", 1));
-  const int n = args.GetInt("n", 30);
+  const int n = args.GetInt("n", 30, 1, 10000);
   const std::vector<Pose> poses = SampleBoardPoses(camera, board, n, sampling);
   if (static_cast<int>(poses.size()) < n)
     throw UserError("acq calibrate synthesize",
@@ -286,7 +286,7 @@ int CalibrateSynthesize(const Argv& argv) {
   const std::filesystem::path dir = args.Required("o");
   std::filesystem::create_directories(dir);
   std::vector<BoardObservation> obs =
-      SynthesizeCorners(camera, board, poses, args.GetDouble("noise-px", 0.3),
+      SynthesizeCorners(camera, board, poses, args.GetDouble("noise-px", 0.3, 0, 100),
                         static_cast<std::uint64_t>(args.GetInt("seed", 1)) + 1000);
   std::vector<std::string> names;
   for (std::size_t f = 0; f < obs.size(); ++f) {

@@ -1,4 +1,5 @@
 #include <algorithm>
+#include <climits>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -36,8 +37,8 @@ std::set<std::string> With(std::set<std::string> a, const std::set<std::string>&
 
 int DirectionsRandom(const Argv& argv) {
   const Args args("acq directions random", argv, {"n", "seed", "o"}, {});
-  const int n = args.GetInt("n", 20);
-  const int seed = args.GetInt("seed", 1);
+  const int n = args.GetInt("n", 20, 1, 100000);
+  const int seed = args.GetInt("seed", 1, 0, INT_MAX);
   const std::string out = args.Required("o");
   WriteDirectionsTsv(RandomDirections(n, std::uint64_t(seed)), out,
                      std::to_string(n) +
@@ -59,12 +60,12 @@ int DirectionsOptimize(const Argv& argv) {
   const std::string out = args.Required("o");
   const MappedBasis mapped = MappedBasis::Open(basis_path);
   OptimizerOptions o;
-  o.n = args.GetInt("n", o.n);
-  o.k = args.GetInt("k", 0);
+  o.n = args.GetInt("n", o.n, 1, 1000);
+  o.k = args.GetInt("k", 0, 0, 1024);
   o.seed = std::uint64_t(args.GetInt("seed", 1));
-  o.candidates = args.GetInt("candidates", o.candidates);
+  o.candidates = args.GetInt("candidates", o.candidates, 1, 10000000);
   o.constraints = ConstraintsFrom(args);
-  o.fov_grid = args.GetInt("fov-grid", o.fov_grid);
+  o.fov_grid = args.GetInt("fov-grid", o.fov_grid, 1, 100);
   o.progress = !args.Has("quiet");
   const std::vector<NearFieldGeometry> geometries = GeometriesFrom(args);
   if (geometries.size() != 1)
@@ -78,8 +79,8 @@ int DirectionsOptimize(const Argv& argv) {
   if (score != "condition" && score != "expected-error")
     throw UserError("--score", "must be 'condition' or 'expected-error', got '" + score + "'");
   o.score = score == "condition" ? Score::kCondition : Score::kExpectedError;
-  o.eta = args.GetDouble("eta", o.eta);
-  o.max_condition = args.GetDouble("max-condition", o.max_condition);
+  o.eta = args.GetDouble("eta", o.eta, 0, 1e12);
+  o.max_condition = args.GetDouble("max-condition", o.max_condition, 1, 1e300);
   if (!(o.max_condition > 1)) throw UserError("--max-condition", "must be greater than 1");
 
   const OptimizedDirections result = OptimizeDirections(mapped.View(), o);
@@ -124,13 +125,13 @@ int DirectionsEval(const Argv& argv) {
   const std::string directions_path = args.Required("directions");
   const std::vector<Direction> directions = ReadDirectionsTsv(directions_path);
   FovEvalOptions o;
-  o.ridge.components = args.GetInt("k", int(directions.size()));
-  o.ridge.eta = args.GetDouble("eta", o.ridge.eta);
+  o.ridge.components = args.GetInt("k", int(directions.size()), 1, 1024);
+  o.ridge.eta = args.GetDouble("eta", o.ridge.eta, 0, 1e12);
   o.ridge.Check(basis);
-  o.grid = args.GetInt("grid", o.grid);
+  o.grid = args.GetInt("grid", o.grid, 1, 1000);
   if (o.grid < 1) throw UserError("--grid", "must be at least 1");
   o.ignore_near_field = args.Has("ignore-near-field");
-  o.noise_trials = args.GetInt("noise-trials", o.noise_trials);
+  o.noise_trials = args.GetInt("noise-trials", o.noise_trials, 1, 100000);
   o.seed = std::uint64_t(args.GetInt("seed", 1));
   std::vector<double> noise_levels;
   for (const std::string& s :
@@ -140,7 +141,8 @@ int DirectionsEval(const Argv& argv) {
     } catch (const std::exception&) {
       throw UserError("--noise", "expected numbers, got '" + s + "'");
     }
-    if (!(noise_levels.back() >= 0)) throw UserError("--noise", "must be >= 0");
+    if (!(noise_levels.back() >= 0 && noise_levels.back() <= 10))
+      throw UserError("--noise", "must be from 0 to 10 (a relative noise level)");
   }
 
   std::vector<MerlBrdf> truths;
@@ -213,7 +215,7 @@ int DirectionsPlan(const Argv& argv) {
     std::replace(name.begin(), name.end(), '_', '-');
     return args.GetDouble(name, fallback);
   });
-  m.phi_h_steps = args.GetInt("azimuth-steps", m.phi_h_steps);
+  m.phi_h_steps = args.GetInt("azimuth-steps", m.phi_h_steps, 1, 3600);
   m.constraints = ConstraintsFrom(args);
   m.Check();
 

@@ -33,9 +33,15 @@ PixelKernel KernelFrom(const Args& args) {
 }
 
 void ParseSize(const std::string& s, int* w, int* h) {
-  if (std::sscanf(s.c_str(), "%dx%d", w, h) != 2 || *w < 1 || *h < 1 || *w > 65536 || *h > 65536)
-    throw UserError("--size", "expected WIDTHxHEIGHT in pixels, got '" + s + "'",
+  char rest = 0;
+  if (std::sscanf(s.c_str(), "%dx%d%c", w, h, &rest) != 2 || *w < 1 || *h < 1 || *w > 16384 ||
+      *h > 16384)
+    throw UserError("--size", "expected WIDTHxHEIGHT in pixels (1 to 16384 each), got '" + s + "'",
                     "e.g. --size 256x256");
+  // The map's planes and the observations of a band: 64 megapixels is 4 x the instrument's
+  // largest sensor, and about 20 GB of map planes, this machine's memory.
+  if (double(*w) * double(*h) > 64e6)
+    throw UserError("--size", s + " is over 64 megapixels", "reconstruct a smaller card");
 }
 
 }  // namespace
@@ -83,20 +89,20 @@ int ReconstructSynthetic(const Argv& argv) {
   sim::ObservationOptions o;
   o.geometry = geometries[0];
   o.centre_directions = args.Has("ignore-near-field");
-  o.noise_sigma = args.GetDouble("noise", 0.0);
+  o.noise_sigma = args.GetDouble("noise", 0.0, 0, 10);
   o.seed = std::uint64_t(args.GetInt("seed", 1));
   sim::SyntheticSource source(
       sim::MakeCardLayout(w, h, o.geometry.sample_size_mm, int(names.size()), o.seed), truth, views,
       o);
 
   ReconstructionOptions r;
-  r.solve.components = args.GetInt("k", r.solve.components);
-  r.solve.eta = args.GetDouble("eta", r.solve.eta);
+  r.solve.components = args.GetInt("k", r.solve.components, 1, 64);
+  r.solve.eta = args.GetDouble("eta", r.solve.eta, 0, 1e12);
   r.solve.lookup = LookupFrom(args);
-  r.solve.min_observations = args.GetInt("min-observations", 0);
+  r.solve.min_observations = args.GetInt("min-observations", 0, 0, 10000);
   r.solve.max_condition = args.GetDouble("max-condition", r.solve.max_condition);
-  r.band_rows = args.GetInt("band-rows", r.band_rows);
-  r.solve.row_tile = args.GetInt("row-tile", r.solve.row_tile);
+  r.band_rows = args.GetInt("band-rows", r.band_rows, 1, 1 << 20);
+  r.solve.row_tile = args.GetInt("row-tile", r.solve.row_tile, 1, 4096);
   r.solve.kernel = KernelFrom(args);
   r.progress = !args.Has("quiet");
   SvbrdfMapInfo info;

@@ -49,7 +49,7 @@ std::vector<std::pair<int, int>> Pixels(const Args& args) {
 }
 
 double DegArg(const Args& args, const std::string& name, double fallback) {
-  return DegToRad(args.GetDouble(name, fallback));
+  return DegToRad(args.GetDouble(name, fallback, -360, 360));
 }
 
 }  // namespace
@@ -91,7 +91,7 @@ int RenderView(const Argv& argv) {
                        DegArg(args, "camera-theta-deg", 0), DegArg(args, "camera-phi-deg", 0)};
   NearFieldGeometry g = GeometriesFrom(args)[0];
   const RgbImage img = RenderView(m.map, m.basis.View(), arms, g, MapRowLookup(m.map));
-  WritePng(img, args.Required("o"), args.GetDouble("exposure", 0));
+  WritePng(img, args.Required("o"), args.GetDouble("exposure", 0, 0, 1e12));
   std::printf("wrote %s\n", args.Get("o").c_str());
   return 0;
 }
@@ -104,8 +104,8 @@ int RenderSpheres(const Argv& argv) {
   const double t = DegArg(args, "light-theta-deg", 45), p = DegArg(args, "light-phi-deg", 135);
   const Eigen::Vector3d light(std::sin(t) * std::cos(p), std::sin(t) * std::sin(p), std::cos(t));
   const RgbImage img = RenderSpheres(m.map, m.basis.View(), Pixels(args), light,
-                                     args.GetInt("size", 256), MapRowLookup(m.map));
-  WritePng(img, args.Required("o"), args.GetDouble("exposure", 0));
+                                     args.GetInt("size", 256, 8, 8192), MapRowLookup(m.map));
+  WritePng(img, args.Required("o"), args.GetDouble("exposure", 0, 0, 1e12));
   std::printf("wrote %s\n", args.Get("o").c_str());
   return 0;
 }

@@ -27,5 +27,6 @@ int CalibrateIntrinsics(const Argv& args);
 int CalibrateExtrinsics(const Argv& args);
 int CalibrateCorrespondence(const Argv& args);
 int CalibrateSynthesize(const Argv& args);
+int SessionRepair(const Argv& args);
 
 }  // namespace acq::cli

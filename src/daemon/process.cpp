@@ -63,6 +63,7 @@ std::vector<SessionView> ViewsOf(const Plan& plan, const std::string& step,
                                    plan.camera_distance_mm)};
     SessionView view;
     view.name = p.direction.empty() ? PoseName(step, pose) : p.direction;
+    view.pose = pose;
     view.correspondence = calib::ComputeCorrespondence(reference, calibrated);
     WriteFloatPlanesExr(session.dir + "/correspondence/" + PoseName(step, pose) + ".exr",
                         view.correspondence);
@@ -167,10 +168,12 @@ ProcessReport ProcessSession(const Plan& plan, SessionCatalog& catalog,
   const SvbrdfMap map = ReadSvbrdfMap(dir + "/svbrdf.exr");
   for (std::size_t i = 0; i < checks.size(); ++i) {
     const std::string name = checks[i].name;
+    // Named by the validation pose it shows: a pose left out (its board not found) leaves a gap
+    // in the numbers, never shifts the names of the others.
+    const std::string render = "renders/" + PoseName("validation", checks[i].pose) + ".png";
     const ValidationResult r =
         CompareWithCapture(map, mapped.View(), std::move(checks[i]), plan.lookup);
-    ValidationSummary s{name, r.pixels, r.relative_rms, r.median_relative,
-                        "renders/" + PoseName("validation", int(i)) + ".png"};
+    ValidationSummary s{name, r.pixels, r.relative_rms, r.median_relative, render};
     WriteComparison(r, dir + "/" + s.render);
     report.validation.push_back(s);
   }

@@ -3,25 +3,12 @@
 #include <cstdio>
 #include <sstream>
 
+#include <nlohmann/json.hpp>
+
 #include "io/session_catalog.h"
 
 namespace acq {
 namespace {
-
-std::string Quoted(const std::string& s) {
-  std::string out = "\"";
-  for (char c : s) {
-    if (c == '"' || c == '\\') out += '\\';
-    if (static_cast<unsigned char>(c) >= 0x20) out += c;
-  }
-  return out + "\"";
-}
-
-std::string Joined(const std::vector<double>& values) {
-  std::ostringstream out;
-  for (std::size_t i = 0; i < values.size(); ++i) out << (i ? ", " : "") << values[i];
-  return out.str();
-}
 
 std::string Share(double part, double whole) {
   char s[32];
@@ -39,63 +26,74 @@ double SessionReport::OverheadS() const {
 }
 
 std::string SessionReport::Json() const {
-  std::ostringstream j;
-  j.precision(6);
+  // nlohmann writes the texts escaped and NaN or infinities as null (a figure that could not
+  // be computed), so the report is valid JSON whatever it holds; keys keep their order.
+  using Json = nlohmann::ordered_json;
   const ProcessReport& p = process;
   const ReconstructionReport& r = p.reconstruction;
-  j << "{\n  \"plan\": " << Quoted(plan) << ",\n  \"backend\": " << Quoted(backend)
-    << ",\n  \"session\": " << Quoted(session) << ",\n  \"time_s\": {\"wall\": " << wall_s
-    << ", \"motion\": " << capture.motion_s << ", \"exposure\": " << capture.exposure_s
-    << ", \"transfer\": " << capture.transfer_s
-    << ", \"bracket_probes\": " << capture.bracket_probe_s
-    << ", \"operator\": " << capture.operator_s << ", \"background_wait\": " << background_wait_s
-    << ", \"background_busy\": " << background_busy_s << ", \"hdr_merge\": " << p.hdr_s
-    << ", \"calibration\": " << p.calibration_s << ", \"correspondence\": " << p.correspondence_s
-    << ", \"reconstruction\": " << p.reconstruction_s << ", \"validation\": " << p.validation_s
-    << ", \"scoring\": " << scoring_s << ", \"planning\": " << planning_s
-    << ", \"daemon_overhead\": " << OverheadS()
-    << "},\n  \"frames\": {\"taken\": " << capture.frames_taken
-    << ", \"already_there\": " << capture.frames_skipped
-    << "},\n  \"map\": {\"file\": " << Quoted("svbrdf.exr") << ", \"width\": " << p.reference_width
-    << ", \"height\": " << p.reference_height << ", \"pixel_size_mm\": " << p.pixel_size_mm
-    << ", \"pixels\": " << r.pixels << ", \"valid\": " << r.valid
-    << ", \"no_observation\": " << r.no_observation
-    << ", \"too_few_observations\": " << r.too_few_observations
-    << ", \"poorly_conditioned\": " << r.poorly_conditioned << "},\n  \"calibration\": {";
+  Json j;
+  j["plan"] = plan;
+  j["backend"] = backend;
+  j["session"] = session;
+  j["time_s"] = {{"wall", wall_s},
+                 {"motion", capture.motion_s},
+                 {"exposure", capture.exposure_s},
+                 {"transfer", capture.transfer_s},
+                 {"bracket_probes", capture.bracket_probe_s},
+                 {"operator", capture.operator_s},
+                 {"background_wait", background_wait_s},
+                 {"background_busy", background_busy_s},
+                 {"hdr_merge", p.hdr_s},
+                 {"calibration", p.calibration_s},
+                 {"correspondence", p.correspondence_s},
+                 {"reconstruction", p.reconstruction_s},
+                 {"validation", p.validation_s},
+                 {"scoring", scoring_s},
+                 {"planning", planning_s},
+                 {"daemon_overhead", OverheadS()}};
+  j["frames"] = {{"taken", capture.frames_taken}, {"already_there", capture.frames_skipped}};
+  j["map"] = {{"file", "svbrdf.exr"},
+              {"width", p.reference_width},
+              {"height", p.reference_height},
+              {"pixel_size_mm", p.pixel_size_mm},
+              {"pixels", r.pixels},
+              {"valid", r.valid},
+              {"no_observation", r.no_observation},
+              {"too_few_observations", r.too_few_observations},
+              {"poorly_conditioned", r.poorly_conditioned}};
   const SessionCalibration& c = p.calibration;
   int found = 0;
   for (const BoardPoseResult& b : c.boards) found += b.found;
-  j << "\"camera\": " << Quoted("calibration/camera.cameramodel")
-    << ", \"lensmodel\": " << Quoted(c.camera.lensmodel_name())
-    << ", \"intrinsics_from\": " << Quoted(c.intrinsics_from)
-    << ", \"intrinsics_rms_px\": " << c.intrinsics_rms_px
-    << ", \"uncertainty_centre_px\": " << c.uncertainty_centre_px
-    << ", \"uncertainty_worst_px\": " << c.uncertainty_worst_px
-    << ", \"board_poses\": " << c.boards.size() << ", \"board_poses_found\": " << found
-    << ", \"views_left_out\": " << p.views_left_out.size() << ", \"warnings\": [";
-  for (std::size_t i = 0; i < c.warnings.size(); ++i) j << (i ? ", " : "") << Quoted(c.warnings[i]);
-  j << "]},\n  \"validation\": [";
-  for (std::size_t i = 0; i < p.validation.size(); ++i) {
-    const ValidationSummary& v = p.validation[i];
-    j << (i ? ",\n    " : "\n    ") << "{\"direction\": " << Quoted(v.name)
-      << ", \"pixels\": " << v.pixels << ", \"relative_rms\": " << v.relative_rms
-      << ", \"median_relative\": " << v.median_relative << ", \"render\": " << Quoted(v.render)
-      << "}";
-  }
-  j << "]";
+  j["calibration"] = {{"camera", "calibration/camera.cameramodel"},
+                      {"lensmodel", c.camera.lensmodel_name()},
+                      {"intrinsics_from", c.intrinsics_from},
+                      {"intrinsics_rms_px", c.intrinsics_rms_px},
+                      {"uncertainty_centre_px", c.uncertainty_centre_px},
+                      {"uncertainty_worst_px", c.uncertainty_worst_px},
+                      {"board_poses", c.boards.size()},
+                      {"board_poses_found", found},
+                      {"views_left_out", p.views_left_out.size()},
+                      {"warnings", c.warnings}};
+  j["validation"] = Json::array();
+  for (const ValidationSummary& v : p.validation)
+    j["validation"].push_back({{"direction", v.name},
+                               {"pixels", v.pixels},
+                               {"relative_rms", v.relative_rms},
+                               {"median_relative", v.median_relative},
+                               {"render", v.render}});
   if (scored)
-    j << ",\n  \"ground_truth\": {\"median_log_rmse\": " << score.median_log_rmse
-      << ", \"median_log_rmse_valid\": " << score.median_log_rmse_valid
-      << ", \"pixels\": " << score.pixels << ", \"valid\": " << score.valid
-      << ", \"homogeneous_median_log_rmse\": " << homogeneous_median_log_rmse
-      << ", \"alignment_median_px\": " << alignment_median_px
-      << ", \"alignment_max_px\": " << alignment_max_px
-      << ", \"board_eye_error_median_deg\": " << board_eye_error_median_deg
-      << ", \"board_eye_error_max_deg\": " << board_eye_error_max_deg
-      << ", \"material_median_log_rmse\": [" << Joined(score.material_median_log_rmse)
-      << "], \"material_homogeneous_log_rmse\": [" << Joined(homogeneous_log_rmse) << "]}";
-  j << "\n}\n";
-  return j.str();
+    j["ground_truth"] = {{"median_log_rmse", score.median_log_rmse},
+                         {"median_log_rmse_valid", score.median_log_rmse_valid},
+                         {"pixels", score.pixels},
+                         {"valid", score.valid},
+                         {"homogeneous_median_log_rmse", homogeneous_median_log_rmse},
+                         {"alignment_median_px", alignment_median_px},
+                         {"alignment_max_px", alignment_max_px},
+                         {"board_eye_error_median_deg", board_eye_error_median_deg},
+                         {"board_eye_error_max_deg", board_eye_error_max_deg},
+                         {"material_median_log_rmse", score.material_median_log_rmse},
+                         {"material_homogeneous_log_rmse", homogeneous_log_rmse}};
+  return j.dump(2, ' ', false, Json::error_handler_t::replace) + "\n";
 }
 
 std::string SessionReport::Text() const {
