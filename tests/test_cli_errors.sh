@@ -131,5 +131,51 @@ else
   failures=$((failures + 1)); echo "FAIL: calibrate refusal (exit $rc)"; echo "$out" | tail -5
 fi
 
+
+# Issue 22: no input crashes acq. Sizes, counts and floats out of range or not finite.
+expect_error "spheres of size 0" "--size" "outside 8 to 8192" -- \
+  "$acq" render spheres --map "$tmp/none.exr" --pixel 1,1 --size 0 -o "$tmp/s.png"
+expect_error "a reconstruction of 65536 x 65536" "--size" "WIDTHxHEIGHT" -- \
+  "$acq" reconstruct synthetic --basis "$tmp/one.acqb" --directions "$data/directions/seed_directions_20.tsv" --size 65536x65536 -o "$tmp/m.exr"
+expect_error "a reconstruction over 64 megapixels" "over 64 megapixels" -- \
+  "$acq" reconstruct synthetic --basis "$tmp/one.acqb" --directions "$data/directions/seed_directions_20.tsv" --size 16384x8000 -o "$tmp/m.exr"
+for bad in nan inf -inf 1e999; do
+  expect_error "--eta $bad" "--eta" "number" -- \
+    "$acq" basis eval --basis "$tmp/one.acqb" --directions "$data/directions/seed_directions_20.tsv" --eta "$bad" --k 3 --all-given "$tmp/good"
+  expect_error "--noise $bad" "--noise" -- \
+    "$acq" reconstruct synthetic --basis "$tmp/one.acqb" --directions "$data/directions/seed_directions_20.tsv" --noise "$bad" -o "$tmp/m.exr"
+  expect_error "--exposure $bad" "--exposure" -- \
+    "$acq" render view --map "$tmp/none.exr" --exposure "$bad" -o "$tmp/v.png"
+  expect_error "an angle of $bad" "--light-theta-deg" -- \
+    "$acq" render view --map "$tmp/none.exr" --light-theta-deg "$bad" -o "$tmp/v.png"
+done
+# A crafted basis header (the checksum not verified): offsets and counts checked against the size.
+cp "$tmp/one.acqb" "$tmp/crafted.acqb"
+printf '\xff\xff\xff\xff\xff\xff\x00\x00' | dd of="$tmp/crafted.acqb" bs=1 seek=88 conv=notrunc status=none
+expect_error "a basis whose q section lies outside the file" "q section" "does not lie inside the file" -- \
+  "$acq" basis info "$tmp/crafted.acqb" --no-verify
+cp "$tmp/one.acqb" "$tmp/crafted2.acqb"
+printf '\x40\x42\x0f\x00' | dd of="$tmp/crafted2.acqb" bs=1 seek=28 conv=notrunc status=none
+expect_error "a basis header with a million components" "1000000 components" "not a basis" -- \
+  "$acq" basis info "$tmp/crafted2.acqb" --no-verify
+# Every command: its help, its group's help, and no option it accepts left out of the help (a
+# command that accepts one its help omits stops with an internal error, exit 3).
+commands=$("$acq" --help | sed -n 's/^  acq \([a-z]*\) \([a-z]*\).*/\1 \2/p' | sort -u)
+[ "$(wc -l <<<"$commands")" -ge 19 ] || { failures=$((failures + 1)); echo "FAIL: commands listed"; }
+for c in $(cut -d' ' -f1 <<<"$commands" | sort -u); do
+  if "$acq" "$c" --help | grep -q "^usage: acq $c "; then passed=$((passed + 1)); else
+    failures=$((failures + 1)); echo "FAIL: acq $c --help"; fi
+done
+while read -r group command; do
+  "$acq" "$group" "$command" --help | grep -q "^usage: acq $group $command" || {
+    failures=$((failures + 1)); echo "FAIL: acq $group $command --help"; }
+  out=$("$acq" "$group" "$command" 2>&1); rc=$?
+  if [ "$rc" -eq 3 ] || grep -q "help does not say so" <<<"$out"; then
+    failures=$((failures + 1)); echo "FAIL: acq $group $command: $out"
+  else
+    passed=$((passed + 1))
+  fi
+done <<<"$commands"
+
 echo "$passed passed, $failures failed"
 [ "$failures" -eq 0 ]

@@ -566,8 +566,8 @@ TEST_CASE("session: owned, remembers its plan, deletes only its own files, stops
   const pid_t first = StartAcqd(plan, socket);
   WaitForFrames(socket, 5);
   // A second acqd on the same session (with its own socket) is refused, naming the owner.
-  const std::string second = Output(std::string(ACQD_PATH) + " --session " + plan +
-                                    " --socket " + socket + ".2 2>&1");
+  const std::string second =
+      Output(std::string(ACQD_PATH) + " --session " + plan + " --socket " + socket + ".2 2>&1");
   CHECK(second.find("the session is in use by acqd pid " + std::to_string(first)) !=
         std::string::npos);
   // A file of the user's in frames/: never deleted.

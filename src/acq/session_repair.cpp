@@ -55,9 +55,10 @@ bool ReadIdentity(const std::string& session, const std::string& relative, Found
     if (pose_index >= 0 && FrameFileName(step->second, pose_index, t) == relative) exposure = t;
   if (exposure < 0) {
     const std::size_t us = relative.rfind("us.exr"), underscore = relative.rfind('_', us);
-    const double named = us == std::string::npos || underscore == std::string::npos
-                             ? -1
-                             : std::atof(relative.substr(underscore + 1, us - underscore - 1).c_str());
+    const double named =
+        us == std::string::npos || underscore == std::string::npos
+            ? -1
+            : std::atof(relative.substr(underscore + 1, us - underscore - 1).c_str());
     if (std::abs(named - frame.exposure_us) <= 1.5) exposure = named;
   }
   if (pose_index < 0 || exposure < 0 ||

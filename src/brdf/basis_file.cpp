@@ -102,6 +102,42 @@ class SectionWriter {
 
 }  // namespace
 
+// Every section the header names lies inside the file, after the header, in order, aligned
+// for its type, with counts a basis can have: checked before any pointer is made from them
+// (issue 22: a crafted header must be an error, not a read outside the mapping), whether or not
+// the checksum is verified.
+static void CheckSections(const Header& h, const std::string& path, const std::string& rebuild) {
+  const std::uint64_t p = merl::kBins;
+  if (h.components < 1 || h.components > 4096 || h.training_rows < h.components ||
+      h.training_rows > (1u << 20))
+    throw UserError(path,
+                    "header holds " + std::to_string(h.components) + " components of " +
+                        std::to_string(h.training_rows) + " training rows: not a basis",
+                    rebuild);
+  struct Section {
+    const char* name;
+    std::uint64_t offset, bytes, align;
+  };
+  const Section sections[] = {
+      {"valid", h.offset_valid, p, 1},
+      {"ref", h.offset_ref, 4 * p, 4},
+      {"mean", h.offset_mean, 4 * p, 4},
+      {"singular", h.offset_singular, 8 * std::uint64_t(h.training_rows), 8},
+      {"q", h.offset_q, 4 * p * h.components, 4},
+      {"settings", h.offset_settings, h.settings_bytes, 1}};
+  std::uint64_t end = sizeof(Header);
+  for (const Section& s : sections) {
+    if (s.offset < end || s.offset % s.align != 0 || s.bytes > h.file_bytes ||
+        s.offset > h.file_bytes - s.bytes)
+      throw UserError(path,
+                      std::string("header's ") + s.name + " section (offset " +
+                          std::to_string(s.offset) + ", " + std::to_string(s.bytes) +
+                          " bytes) does not lie inside the file in order",
+                      "the file is corrupt or not a basis; " + rebuild);
+    end = s.offset + s.bytes;
+  }
+}
+
 void WriteBasisFile(const BasisView& basis, const std::string& path) {
   Header h{};
   std::memcpy(h.magic, kMagic, 8);
@@ -195,6 +231,7 @@ MappedBasis MappedBasis::Open(const std::string& path, bool verify_checksum) {
                     "the file is truncated; " + rebuild);
   if (h.grid[0] != merl::kThetaH || h.grid[1] != merl::kThetaD || h.grid[2] != merl::kPhiD)
     throw UserError(path, "basis is not on the 90 x 90 x 180 MERL grid", rebuild);
+  CheckSections(h, path, rebuild);
   const auto* base = static_cast<const unsigned char*>(data);
   if (verify_checksum && FileCrc(base, bytes) != h.crc32)
     throw UserError(path, "checksum mismatch: the file is corrupt", rebuild);

@@ -5,6 +5,7 @@
 #include <map>
 #include <string>
 
+#include "cli/args.h"
 #include "cli/commands.h"
 #include "core/error.h"
 
@@ -20,16 +21,17 @@ const std::map<std::string, Command>& Commands() {
   static const std::map<std::string, Command> commands = {
       {"basis build",
        {BasisBuild,
-        "acq basis build MATERIALS... -o BASIS [--components K] [--holdout-every N "
+        "acq basis build MATERIALS... -o|--output BASIS [--components K] [--holdout-every N "
         "--holdout-offset I] [--holdout NAME,...] [--quiet]\n"
         "  MATERIALS: MERL .binary files, neural-BRDF .h5 fits, or folders of them.\n"
         "  Hold out every N-th material by sorted name starting at 0-based I, and/or by name."}},
       {"basis eval",
        {BasisEval,
         "acq basis eval --basis BASIS --directions TSV [MATERIALS...] [--k 20] [--eta 40]\n"
-        "               [--write-recon DIR] [--csv FILE]\n"
+        "               [--write-recon DIR] [--csv FILE] [--all-given]\n"
         "  Reconstructs each material (default: the basis's held-out set, found in MATERIALS or\n"
-        "  data/nbrdf/merl) from its values at the directions and prints per-channel errors."}},
+        "  data/nbrdf/merl) from its values at the directions and prints per-channel errors;\n"
+        "  --all-given scores every material given, held out or not."}},
       {"basis info", {BasisInfo, "acq basis info BASIS [--no-verify]"}},
       {"material convert",
        {MaterialConvert,
@@ -46,6 +48,7 @@ const std::map<std::string, Command>& Commands() {
         "    [--max-camera-zenith-deg 65] [--max-light-zenith-deg 85] [--min-separation-deg 20]\n"
         "    [--unconstrained] [--fov-deg F | --sample-size-mm S] [--camera-distance-mm 1000]\n"
         "    [--light-distance-mm 1000] [--fov-grid 3] [--fov-objective worst|mean]\n"
+        "    [--score expected-error|condition] [--eta 40] [--max-condition 200] [--quiet]\n"
         "  Minimises the condition number of the sampled basis rows (NJR15), under the gantry's\n"
         "  constraints; with a field of view, the worst (or mean) over positions on the sample."}},
       {"directions eval",
@@ -53,7 +56,7 @@ const std::map<std::string, Command>& Commands() {
         "acq directions eval --basis BASIS --directions TSV [MATERIALS...] [--k n] [--eta 40]\n"
         "    [--fov-deg 0,4,10 | --sample-size-mm S] [--camera-distance-mm 1000]\n"
         "    [--light-distance-mm 1000] [--grid 10] [--ignore-near-field] [--noise 0,0.05]\n"
-        "    [--noise-trials 8] [--csv FILE --label L]\n"
+        "    [--noise-trials 8] [--seed 1] [--csv FILE --label L] [--all-given]\n"
         "  Condition numbers and held-out log-space error over a field of view, each position\n"
         "  with its own true directions and rows (the near-field effect)."}},
       {"directions plan",
@@ -72,7 +75,8 @@ const std::map<std::string, Command>& Commands() {
         "    [--camera-distance-mm 1000] [--light-distance-mm 1000] [--k 20] [--eta 40]\n"
         "    [--lookup nearest|interpolated] [--band-rows 64] [--noise 0] [--seed 1]\n"
         "    [--ignore-near-field] [--truth-tables] [--score] [--row-tile 1] [--dump DIR]\n"
-        "    [--kernel lanes|lanes-single|one-pixel]\n"
+        "    [--kernel lanes|lanes-single|one-pixel] [--max-condition C] [--min-observations N]\n"
+        "    [--sample-size-mm S] [--quiet]\n"
         "  Reconstructs a synthetic printed card from observations made straight from the\n"
         "  ground truth, per pixel, into an SVBRDF map (docs/svbrdf-map.md); --score compares\n"
         "  every pixel with its true material."}},
@@ -85,12 +89,14 @@ const std::map<std::string, Command>& Commands() {
        {RenderView,
         "acq render view --map MAP.exr -o VIEW.png [--light-theta-deg 30 --light-phi-deg 0]\n"
         "    [--camera-theta-deg 0 --camera-phi-deg 0] [--camera-distance-mm 1000]\n"
-        "    [--light-distance-mm 1000] [--exposure E] [--basis BASIS]\n"
+        "    [--light-distance-mm 1000] [--fov-deg F | --sample-size-mm S] [--exposure E]\n"
+        "    [--basis BASIS]\n"
         "  The sample under any arm pose, in reference-view pixels, with near-field directions."}},
       {"render spheres",
        {RenderSpheres,
         "acq render spheres --map MAP.exr --pixel X,Y [--pixel X,Y ...] -o SPHERES.png\n"
-        "    [--size 256] [--light-theta-deg 45 --light-phi-deg 135] [--basis BASIS]\n"
+        "    [--size 256] [--light-theta-deg 45 --light-phi-deg 135] [--exposure E] [--basis "
+        "BASIS]\n"
         "  Spheres with the BRDF of chosen pixels, lit by a distant point light."}},
       {"render export",
        {RenderExport,
@@ -106,14 +112,15 @@ const std::map<std::string, Command>& Commands() {
         "acq calibrate intrinsics (--images IMAGES... | --corners-cache F) --board WxH\n"
         "    --spacing-mm S -o CAMERA.cameramodel [--lensmodel LENSMODEL_OPENCV8|auto]\n"
         "    [--focal-px F] [--imagersize W,H] [--detector auto|mrgingham|opencv]\n"
-        "    [--max-uncertainty-px 1] [--force] [--no-warp] [--no-outlier-rejection]\n"
+        "    [--max-uncertainty-px 1] [--force] [--no-warp] [--no-outlier-rejection] [--quiet]\n"
         "  Solves with mrcal in stages and reports residuals, outliers, worst images and the\n"
         "  projection uncertainty; refuses to write a model whose uncertainty exceeds the limit.\n"
         "  auto: the lens-model ladder, cross-validated (docs/lens-model-choice.md)."}},
       {"calibrate extrinsics",
        {CalibrateExtrinsics,
         "acq calibrate extrinsics --camera CAMERA.cameramodel --board WxH --spacing-mm S\n"
-        "    --images IMAGES... -o VIEWS.tsv [--light-in-sample-mm X,Y,Z]\n"
+        "    --images IMAGES... -o VIEWS.tsv [--light-in-sample-mm X,Y,Z] [--corners-cache F]\n"
+        "    [--detector auto|mrgingham|opencv] [--quiet]\n"
         "  cam_from_sample per image of the board lying in the sample plane (intrinsics locked)."}},
       {"calibrate correspondence",
        {CalibrateCorrespondence,
@@ -154,6 +161,18 @@ int main(int argc, char** argv) {
     return argc < 2 ? 2 : 0;
   }
   const std::string name = argc >= 3 ? std::string(argv[1]) + " " + argv[2] : argv[1];
+  // `acq GROUP --help` (or `acq GROUP`): the usage of each command of the group.
+  if (argc == 2 ||
+      (argc >= 3 && (!std::strcmp(argv[2], "--help") || !std::strcmp(argv[2], "-h")))) {
+    const std::string group = std::string(argv[1]) + " ";
+    bool any = false;
+    for (const auto& [n, command] : Commands())
+      if (n.rfind(group, 0) == 0) {
+        std::printf("usage: %s\n\n", command.usage);
+        any = true;
+      }
+    if (any) return argc == 2 ? 2 : 0;
+  }
   const auto it = Commands().find(name);
   if (it == Commands().end()) {
     std::fprintf(stderr, "acq: unknown command '%s'\n", name.c_str());
@@ -167,6 +186,7 @@ int main(int argc, char** argv) {
       return 0;
     }
   }
+  acq::cli::SetCommandUsage(it->second.usage);
   try {
     return it->second.run(args);
   } catch (const acq::UserError& e) {

@@ -3,14 +3,51 @@
 #include <cctype>
 #include <cmath>
 #include <sstream>
+#include <stdexcept>
 
 #include "core/error.h"
 
 namespace acq::cli {
 
+namespace {
+
+const char* g_usage = nullptr;
+
+// Whether `usage` names --name (or -name, for one letter) as a whole option.
+bool NamesOption(const std::string& usage, const std::string& option) {
+  for (std::size_t at = usage.find(option); at != std::string::npos;
+       at = usage.find(option, at + 1)) {
+    const std::size_t end = at + option.size();
+    const bool starts =
+        at == 0 || !std::isalnum(static_cast<unsigned char>(usage[at - 1])) && usage[at - 1] != '-';
+    const bool ends = end == usage.size() ||
+                      !(std::isalnum(static_cast<unsigned char>(usage[end])) || usage[end] == '-');
+    if (starts && ends) return true;
+  }
+  return false;
+}
+
+bool Names(const std::string& usage, const std::string& name) {
+  return NamesOption(usage, "--" + name) || (name.size() == 1 && NamesOption(usage, "-" + name));
+}
+
+}  // namespace
+
+void SetCommandUsage(const char* usage) {
+  g_usage = usage;
+}
+
 Args::Args(std::string command, const std::vector<std::string>& argv, std::set<std::string> valued,
            std::set<std::string> flags)
     : command_(std::move(command)) {
+  if (g_usage) {
+    std::string missing;
+    for (const std::set<std::string>* names : {&valued, &flags})
+      for (const std::string& name : *names)
+        if (!Names(g_usage, name)) missing += " --" + name;
+    if (!missing.empty())
+      throw std::logic_error(command_ + " accepts" + missing + " but its help does not say so");
+  }
   const std::string help = "see `" + command_ + " --help`";
   for (std::size_t i = 0; i < argv.size(); ++i) {
     const std::string& a = argv[i];
@@ -88,8 +125,7 @@ int Args::GetInt(const std::string& name, int fallback, int lo, int hi) const {
   if (used != v.size() || v.empty())
     throw UserError(command_ + " --" + name, "expected an integer, got '" + v + "'");
   if (x < lo || x > hi)
-    throw UserError(command_ + " --" + name,
-                    v + " is outside " + Text(lo) + " to " + Text(hi),
+    throw UserError(command_ + " --" + name, v + " is outside " + Text(lo) + " to " + Text(hi),
                     "see `" + command_ + " --help`");
   return x;
 }

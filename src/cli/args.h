@@ -11,6 +11,11 @@
 
 namespace acq::cli {
 
+// The usage text of the command being run (acq_main sets it): every option an Args accepts
+// must appear in it as --name, or the command is a programmer's error (std::logic_error, acq's
+// "internal error"), found by any test that runs the command (issue 22: help lists every option).
+void SetCommandUsage(const char* usage);
+
 class Args {
  public:
   // `valued` options take a value (repeatable: all values are kept); `flags` take none.

@@ -56,6 +56,10 @@ int ReconstructSynthetic(const Argv& argv) {
   const Args args("acq reconstruct synthetic", argv, valued,
                   {"ignore-near-field", "truth-tables", "score", "quiet"});
   const std::string basis_path = args.Required("basis"), out = args.Required("o");
+  // The options that are numbers, checked before any file is read.
+  int w = 0, h = 0;
+  ParseSize(args.Get("size", "256x256"), &w, &h);
+  const double noise = args.GetDouble("noise", 0.0, 0, 10);
   const MappedBasis mapped = MappedBasis::Open(basis_path);
   const BasisView& basis = mapped.View();
   const std::vector<Direction> directions = ReadDirectionsTsv(args.Required("directions"));
@@ -82,14 +86,12 @@ int ReconstructSynthetic(const Argv& argv) {
   for (std::size_t i = 0; i < networks.size(); ++i)
     truth.push_back({&networks[i], args.Has("truth-tables") ? &tables[i] : nullptr});
 
-  int w = 0, h = 0;
-  ParseSize(args.Get("size", "256x256"), &w, &h);
   const std::vector<NearFieldGeometry> geometries = GeometriesFrom(args);
   if (geometries.size() != 1) throw UserError("--fov-deg", "give one field of view");
   sim::ObservationOptions o;
   o.geometry = geometries[0];
   o.centre_directions = args.Has("ignore-near-field");
-  o.noise_sigma = args.GetDouble("noise", 0.0, 0, 10);
+  o.noise_sigma = noise;
   o.seed = std::uint64_t(args.GetInt("seed", 1));
   sim::SyntheticSource source(
       sim::MakeCardLayout(w, h, o.geometry.sample_size_mm, int(names.size()), o.seed), truth, views,

@@ -86,12 +86,14 @@ int RenderView(const Argv& argv) {
                                   "exposure"};
   valued.insert(kGeometryOptions.begin(), kGeometryOptions.end());
   const Args args("acq render view", argv, valued, {});
-  const MapAndBasis m = Open(args);
+  // Every option checked before any file is read.
   const ArmAngles arms{DegArg(args, "light-theta-deg", 30), DegArg(args, "light-phi-deg", 0),
                        DegArg(args, "camera-theta-deg", 0), DegArg(args, "camera-phi-deg", 0)};
   NearFieldGeometry g = GeometriesFrom(args)[0];
+  const double exposure = args.GetDouble("exposure", 0, 0, 1e12);
+  const MapAndBasis m = Open(args);
   const RgbImage img = RenderView(m.map, m.basis.View(), arms, g, MapRowLookup(m.map));
-  WritePng(img, args.Required("o"), args.GetDouble("exposure", 0, 0, 1e12));
+  WritePng(img, args.Required("o"), exposure);
   std::printf("wrote %s\n", args.Get("o").c_str());
   return 0;
 }
@@ -100,12 +102,15 @@ int RenderSpheres(const Argv& argv) {
   const Args args(
       "acq render spheres", argv,
       {"map", "basis", "o", "pixel", "size", "light-theta-deg", "light-phi-deg", "exposure"}, {});
-  const MapAndBasis m = Open(args);
+  // Every option checked before any file is read.
   const double t = DegArg(args, "light-theta-deg", 45), p = DegArg(args, "light-phi-deg", 135);
   const Eigen::Vector3d light(std::sin(t) * std::cos(p), std::sin(t) * std::sin(p), std::cos(t));
-  const RgbImage img = RenderSpheres(m.map, m.basis.View(), Pixels(args), light,
-                                     args.GetInt("size", 256, 8, 8192), MapRowLookup(m.map));
-  WritePng(img, args.Required("o"), args.GetDouble("exposure", 0, 0, 1e12));
+  const int size = args.GetInt("size", 256, 8, 8192);
+  const double exposure = args.GetDouble("exposure", 0, 0, 1e12);
+  const MapAndBasis m = Open(args);
+  const RgbImage img =
+      RenderSpheres(m.map, m.basis.View(), Pixels(args), light, size, MapRowLookup(m.map));
+  WritePng(img, args.Required("o"), exposure);
   std::printf("wrote %s\n", args.Get("o").c_str());
   return 0;
 }

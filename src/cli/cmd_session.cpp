@@ -15,10 +15,10 @@ int SessionRepair(const Argv& argv) {
                     "acq session repair SESSION (the plan's output folder)");
   const std::string session = args.positionals()[0];
   const SessionRepairReport r = RepairSessionCatalog(session);
-  std::printf("%s: %d frames recorded from their metadata (%d were recorded already), %d "
-              "bracket decisions restored (%d inferred from the exposures present)\n",
-              session.c_str(), r.recorded, r.already_recorded, r.decisions_restored,
-              r.decisions_inferred);
+  std::printf(
+      "%s: %d frames recorded from their metadata (%d were recorded already), %d "
+      "bracket decisions restored (%d inferred from the exposures present)\n",
+      session.c_str(), r.recorded, r.already_recorded, r.decisions_restored, r.decisions_inferred);
   for (const std::string& s : r.skipped) std::printf("  left alone: %s\n", s.c_str());
   std::printf("run acqd with the session's plan (%s/plan.yaml) to resume\n", session.c_str());
   return 0;
