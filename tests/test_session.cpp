@@ -221,6 +221,28 @@ double Percentile(std::vector<double> v, double q) {
   return v.empty() ? 0 : v[std::min(v.size() - 1, std::size_t(q * double(v.size())))];
 }
 
+int FramesRecorded(const std::string& session) {
+  return int(SessionCatalog(session).Frames().size());
+}
+
+int FrameFiles(const std::string& session) {
+  int n = 0;
+  for (const auto& e : fs::directory_iterator(session + "/frames"))
+    n += e.path().extension() == ".exr";
+  return n;
+}
+
+// Polls acqctl until acqd has recorded at least `n` frames (60 s at most).
+void WaitForFrames(const std::string& socket, double n) {
+  for (int i = 0; i < 1200; ++i) {
+    const std::string json =
+        Output(std::string(ACQCTL_PATH) + " --socket " + socket + " status --json 2>/dev/null");
+    if (json.find("\"frames\"") != std::string::npos && JsonNumber(json, "frames") >= n) return;
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+  FAIL("acqd never recorded " << n << " frames");
+}
+
 }  // namespace
 
 TEST_CASE("session: a whole simulated session, scored; kill -9 and resume give the same outputs",
@@ -376,19 +398,20 @@ TEST_CASE("session: a whole simulated session, scored; kill -9 and resume give t
     CHECK(given_median == Approx(median).epsilon(0.03));
   }
 
-  // Killed at three points of the capture (a third, half, and most of the way), resumed each
-  // time; the last resume runs to the end.
+  // Killed at three points of the capture (30%, 55% and 80% of its frames), resumed each time;
+  // the last resume runs to the end.
   const std::string resumed = WritePlan(base + "/resumed", basis);
   std::size_t recorded_before = 0;
-  for (double fraction : {0.3, 0.5, 0.8}) {
+  for (double fraction : {0.3, 0.55, 0.8}) {
     const pid_t pid = StartAcqd(resumed, socket);
-    std::this_thread::sleep_for(std::chrono::duration<double>(fraction * whole_s));
+    // Killed once the frames (recorded before and taken now) pass this share of the session's.
+    WaitForFrames(socket, fraction * frames);
     kill(pid, SIGKILL);
     Wait(pid);
     // The kill landed mid-capture: more frames than before it, fewer than the session's (a kill
     // after the capture, or before any frame, would test no resume at all).
     const std::size_t recorded = SessionCatalog(base + "/resumed/session").Frames().size();
-    INFO("killed at " << fraction << " of the uninterrupted run's time");
+    INFO("killed at " << fraction << " of the session's frames");
     CHECK(recorded > recorded_before);
     CHECK(recorded < std::size_t(frames));
     recorded_before = recorded;
@@ -524,32 +547,6 @@ TEST_CASE("session: operator prompts answered with acqctl confirm; abort at a pr
   CHECK(events.back().first == "error");
   CHECK(events.back().second.find("aborted by the operator") != std::string::npos);
 }
-
-namespace {
-
-int FramesRecorded(const std::string& session) {
-  return int(SessionCatalog(session).Frames().size());
-}
-
-int FrameFiles(const std::string& session) {
-  int n = 0;
-  for (const auto& e : fs::directory_iterator(session + "/frames"))
-    n += e.path().extension() == ".exr";
-  return n;
-}
-
-// Polls acqctl until acqd has recorded at least `n` frames (60 s at most).
-void WaitForFrames(const std::string& socket, double n) {
-  for (int i = 0; i < 1200; ++i) {
-    const std::string json =
-        Output(std::string(ACQCTL_PATH) + " --socket " + socket + " status --json 2>/dev/null");
-    if (json.find("\"frames\"") != std::string::npos && JsonNumber(json, "frames") >= n) return;
-    std::this_thread::sleep_for(std::chrono::milliseconds(50));
-  }
-  FAIL("acqd never recorded " << n << " frames");
-}
-
-}  // namespace
 
 // Issue 22: what a hostile user tried, each closed: a second acqd on a running session, SIGTERM,
 // a resume with an edited plan, a file dropped into frames/, a deleted catalog (refused, then

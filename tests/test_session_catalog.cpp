@@ -6,6 +6,7 @@
 
 #include <chrono>
 #include <filesystem>
+#include <fstream>
 #include <string>
 #include <thread>
 
@@ -27,7 +28,7 @@ std::string FrameBytes(int i) {
 }
 
 std::string FramePath(int i) {
-  return "frames/" + std::to_string(1000 + i) + "_sample.raw";
+  return FrameFileName("sample", i, 1000);
 }
 
 // What the sequencer does for each frame, skipping what the catalog says is done.
@@ -107,6 +108,43 @@ TEST_CASE("catalog: frames recorded once, steps, damaged and unrecorded files re
   CHECK(r.orphans[0] == fs::path(FramePath(2)).filename().string());
   CHECK(reopened.Frames().size() == 3);
   CHECK(reopened.StepDone("sample"));
+}
+
+// Issue 22: the catalog deletes only what acqd writes, and never "repairs" a catalog that lost
+// its rows by deleting the frames.
+TEST_CASE("catalog: files acqd did not write are left; a catalog that lost rows is refused",
+          "[catalog]") {
+  const test::TempDir tmp;
+  const std::string dir = tmp / "session";
+  {
+    SessionCatalog catalog(dir);
+    for (int i = 0; i < 3; ++i) {
+      const std::string bytes = FrameBytes(i);
+      WriteFileAtomically(dir + "/" + FramePath(i), bytes.data(), bytes.size());
+      catalog.RecordFrame({"sample", i, 1000, FramePath(i), "", 0});
+    }
+  }
+  std::ofstream(dir + "/frames/notes.txt") << "mine";
+  std::ofstream(dir + "/frames/sample_099_1000us.exr.bak") << "mine too";
+  fs::create_directories(dir + "/frames/old");
+  {
+    SessionCatalog catalog(dir);
+    const SessionCatalog::Repair r = catalog.VerifyAndRepair();
+    CHECK(r.verified == 3);
+    CHECK(r.orphans.empty());
+    CHECK(r.unknown.size() == 3);
+    CHECK(fs::exists(dir + "/frames/notes.txt"));
+    CHECK(fs::exists(dir + "/frames/sample_099_1000us.exr.bak"));
+    CHECK(fs::exists(dir + "/frames/old"));
+  }
+  // The catalog deleted (or emptied): three frames it does not record, refused, nothing deleted.
+  for (const char* f : {"catalog.sqlite", "catalog.sqlite-wal", "catalog.sqlite-shm"})
+    fs::remove(dir + "/" + f);
+  SessionCatalog fresh(dir);
+  CHECK(fresh.UnrecordedFrames().size() == 3);
+  CHECK_THROWS_WITH(fresh.VerifyAndRepair(), Catch::Contains("does not record 3 frames") &&
+                                                 Catch::Contains("acq session repair"));
+  for (int i = 0; i < 3; ++i) CHECK(fs::exists(dir + "/" + FramePath(i)));
 }
 
 TEST_CASE("catalog: kill -9 at any instant, then resume: every frame once, none lost",

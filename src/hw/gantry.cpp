@@ -54,7 +54,9 @@ void WaitUntilStill(Gantry& gantry, double timeout_s, const std::string& what) {
       char seconds[32];
       std::snprintf(seconds, sizeof seconds, "%.1f", timeout_s);
       gantry.Stop();
-      throw UserError("gantry", what + " did not end within " + seconds + " s",
+      throw UserError("gantry",
+                      (what == "homing" ? "homing did not end" : "the arms did not arrive") +
+                          std::string(" within ") + seconds + " s",
                       "the arms were stopped; check the axis speeds in the plan against the "
                       "gantry's and look for an obstruction");
     }
