@@ -232,9 +232,10 @@ int FrameFiles(const std::string& session) {
   return n;
 }
 
-// Polls acqctl until acqd has recorded at least `n` frames (60 s at most).
+// Polls acqctl until acqd has recorded at least `n` frames (180 s at most: a resumed run first
+// verifies every frame's checksum, slow on a loaded machine).
 void WaitForFrames(const std::string& socket, double n) {
-  for (int i = 0; i < 1200; ++i) {
+  for (int i = 0; i < 3600; ++i) {
     const std::string json =
         Output(std::string(ACQCTL_PATH) + " --socket " + socket + " status --json 2>/dev/null");
     if (json.find("\"frames\"") != std::string::npos && JsonNumber(json, "frames") >= n) return;
