@@ -133,7 +133,7 @@ MerlBrdf PixelAsMerl(const SvbrdfMap& map, const BasisView& basis, int x, int y)
 }
 
 RowLookup MapRowLookup(const SvbrdfMap& map) {
-  return map.info.lookup == "interpolated" ? RowLookup::kInterpolated : RowLookup::kNearest;
+  return ParseRowLookup(map.info.lookup).value_or(RowLookup::kNearest);
 }
 
 void WritePng(const RgbImage& image, const std::string& path, double exposure) {

@@ -36,6 +36,8 @@ struct GantryMotion {
   // or the fallback it is given (the current one) when the name is absent.
   void ReadAxes(const std::function<double(const std::string& name, double fallback)>& get);
   double MoveSeconds(const ArmAngles& from, const ArmAngles& to) const;
+  // The slower axis's profile: what a move's or homing's timeout is derived from.
+  const AxisLimits& SlowestAxis() const { return theta.speed < phi.speed ? theta : phi; }
   // Empty when every point of the straight move (in axis space) keeps the constraints, else why.
   std::string MoveViolation(const ArmAngles& from, const ArmAngles& to) const;
 };

@@ -20,6 +20,11 @@ namespace {
 
 namespace fs = std::filesystem;
 
+// "plan.yaml:12:5": where an error in the file is, 1-based.
+std::string Place(const std::string& file, const YAML::Mark& m) {
+  return file + ":" + std::to_string(m.line + 1) + ":" + std::to_string(m.column + 1);
+}
+
 // A YAML mapping with what the plan allows in it; every access checks type and names the place.
 class Section {
  public:
@@ -57,7 +62,7 @@ class Section {
     YAML::Mark m = n.Mark();
     if (m.is_null()) m = fallback_;  // a node made here, not read from the file
     if (m.is_null()) m.line = m.column = 0;
-    return file_ + ":" + std::to_string(m.line + 1) + ":" + std::to_string(m.column + 1);
+    return Place(file_, m);
   }
   std::string Where(const std::string& key) const {
     return Has(key) ? Where(node_[key]) : Where(node_);
@@ -182,19 +187,15 @@ YAML::Node LoadPlanDocument(const std::string& path) {
   } catch (const YAML::BadFile&) {
     throw UserError(path, "cannot read the plan", "check the path and its permissions");
   } catch (const YAML::ParserException& e) {
-    throw UserError(
-        path + ":" + std::to_string(e.mark.line + 1) + ":" + std::to_string(e.mark.column + 1),
-        "not valid YAML: " + e.msg, "check the indentation and the brackets there");
+    throw UserError(Place(path, e.mark), "not valid YAML: " + e.msg,
+                    "check the indentation and the brackets there");
   }
   if (documents.empty() || documents.front().IsNull())
     throw UserError(path + ":1:1", "the plan is empty",
                     "start from an example plan (examples/plan-sim.yaml)");
-  if (documents.size() > 1) {
-    const YAML::Mark m = documents[1].Mark();
-    throw UserError(path + ":" + std::to_string(m.line + 1) + ":" + std::to_string(m.column + 1),
-                    "a second YAML document ('---') in the plan",
+  if (documents.size() > 1)
+    throw UserError(Place(path, documents[1].Mark()), "a second YAML document ('---') in the plan",
                     "a plan is one document: remove the second, or give it its own file");
-  }
   return documents.front();
 }
 
@@ -414,8 +415,8 @@ Plan LoadPlan(const std::string& path) {
     if (board_size.size() != 2)
       throw UserError(board.Where("size"), "calibration.board.size must be two counts >= 2",
                       "inner corners across and down, like [10, 10]");
-    plan.board_width_n = int(board_size[0]);
-    plan.board_height_n = int(board_size[1]);
+    plan.board_width_n = board_size[0];
+    plan.board_height_n = board_size[1];
   }
   plan.board_spacing_mm = board.Number("spacing_mm", plan.board_spacing_mm);
   if (!(plan.board_spacing_mm > 0 && plan.board_spacing_mm <= 1000))
@@ -465,10 +466,8 @@ Plan LoadPlan(const std::string& path) {
   plan.eta = recon.Number("eta", plan.eta);
   plan.row_tile = int(recon.Integer("row_tile", plan.row_tile, 1, 4096));
   const std::string lookup = recon.Text("lookup", "nearest");
-  if (lookup == "nearest")
-    plan.lookup = RowLookup::kNearest;
-  else if (lookup == "interpolated")
-    plan.lookup = RowLookup::kInterpolated;
+  if (const std::optional<RowLookup> parsed = ParseRowLookup(lookup))
+    plan.lookup = *parsed;
   else
     throw UserError(recon.Where("lookup"), "reconstruction.lookup '" + lookup + "' is not known",
                     "use nearest or interpolated");

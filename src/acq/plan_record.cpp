@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <set>
 #include <sstream>
 
 #include "core/angles.h"
@@ -74,7 +75,12 @@ std::vector<PlanSetting> ReadSettings(const std::string& path) {
       throw UserError(path + ":" + std::to_string(n), "not a plan setting line",
                       "this file is acqd's own; restore it from a backup or start a new session");
     const std::string kind = line.substr(0, a);
-    out.push_back({kind == "capture" ? PlanSetting::Kind::kCapture : PlanSetting::Kind::kProcessing,
+    if (kind != KindName(PlanSetting::Kind::kCapture) &&
+        kind != KindName(PlanSetting::Kind::kProcessing))
+      throw UserError(path + ":" + std::to_string(n), "unknown setting kind '" + kind + "'",
+                      "this file is acqd's own; restore it from a backup or start a new session");
+    out.push_back({kind == KindName(PlanSetting::Kind::kCapture) ? PlanSetting::Kind::kCapture
+                                                                 : PlanSetting::Kind::kProcessing,
                    line.substr(a + 1, b - a - 1), line.substr(b + 1)});
   }
   return out;
@@ -150,8 +156,7 @@ std::vector<PlanSetting> PlanSettings(const Plan& plan) {
   s.Processing("reconstruction.basis", FileValue(plan.basis_file));
   s.Processing("reconstruction.k", std::to_string(plan.components));
   s.Processing("reconstruction.eta", Number(plan.eta));
-  s.Processing("reconstruction.lookup",
-               plan.lookup == RowLookup::kNearest ? "nearest" : "interpolated");
+  s.Processing("reconstruction.lookup", RowLookupName(plan.lookup));
   s.Processing("reconstruction.row_tile", std::to_string(plan.row_tile));
   return s.out;
 }
@@ -175,14 +180,14 @@ PlanCheck RecordOrCheckPlan(const Plan& plan, const std::string& session, Sessio
   for (const PlanSetting& s : ReadSettings(path)) recorded[s.key] = s;
   std::string capture_differences;
   int differences = 0;
-  std::map<std::string, bool> seen;
+  std::set<std::string> seen;
   auto differ = [&](const std::string& key, const std::string& was, const std::string& is) {
     if (++differences <= 12)
       capture_differences += "\n  " + key + ": " + (was.empty() ? "(none)" : was) + " -> " +
                              (is.empty() ? "(none)" : is);
   };
   for (const PlanSetting& s : now) {
-    seen[s.key] = true;
+    seen.insert(s.key);
     const auto r = recorded.find(s.key);
     const std::string was = r == recorded.end() ? "" : r->second.value;
     if (was == s.value) continue;

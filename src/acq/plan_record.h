@@ -19,8 +19,8 @@ class SessionCatalog;
 struct PlanSetting {
   enum class Kind { kCapture, kProcessing };
   Kind kind;
-  std::string key;    // the plan's key ("camera.hdr.bracket_us", "directions[3]")
-  std::string value;  // as text; files as "sha256:<hex> <path>"
+  std::string key;    // the plan's key ("camera.hdr", "directions[3]")
+  std::string value;  // as text; files as "sha256:<hex> <file name>"
 };
 
 // The settings of a plan, capture then processing, in a fixed order.

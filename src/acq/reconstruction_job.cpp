@@ -41,7 +41,7 @@ ReconstructionReport Reconstruct(const BasisView& basis, ObservationSource& sour
   info.height = h;
   info.components = k;
   info.eta = options.solve.eta;
-  info.lookup = options.solve.lookup == RowLookup::kNearest ? "nearest" : "interpolated";
+  info.lookup = RowLookupName(options.solve.lookup);
   info.pixel_size_mm = source.PixelSizeMm();
   info.source = source.Describe();
   SvbrdfMapWriter writer(map_path, info);

@@ -5,7 +5,6 @@
 #include <cstdlib>
 #include <filesystem>
 #include <map>
-#include <sstream>
 
 #include "core/error.h"
 #include "hw/frame_file.h"
@@ -50,8 +49,7 @@ bool ReadIdentity(const std::string& session, const std::string& relative, Found
   // may differ by its step): the bracket's value that names this file, else (frames written
   // before the attribute) the name's own, when it agrees with the camera's to its rounding.
   double exposure = -1;
-  std::istringstream asked(out->bracket);
-  for (double t; asked >> t;)
+  for (double t : ParseBracketText(out->bracket))
     if (pose_index >= 0 && FrameFileName(step->second, pose_index, t) == relative) exposure = t;
   if (exposure < 0) {
     const std::size_t us = relative.rfind("us.exr"), underscore = relative.rfind('_', us);
@@ -69,14 +67,6 @@ bool ReadIdentity(const std::string& session, const std::string& relative, Found
   }
   out->row = {step->second, pose_index, exposure, relative, "", 0};
   return true;
-}
-
-std::string ExposuresText(std::vector<double> exposures) {
-  std::sort(exposures.begin(), exposures.end());
-  std::ostringstream out;
-  out.precision(17);
-  for (double t : exposures) out << t << ' ';
-  return out.str();
 }
 
 }  // namespace
@@ -109,7 +99,8 @@ SessionRepairReport RepairSessionCatalog(const std::string& session) {
     if (bracket.empty()) {
       std::vector<double> exposures;
       for (const FoundFrame& f : frames) exposures.push_back(f.row.exposure_us);
-      bracket = ExposuresText(exposures);
+      std::sort(exposures.begin(), exposures.end());
+      bracket = BracketText(exposures);
       ++report.decisions_inferred;
     }
     catalog.RecordDecision(key, bracket);

@@ -8,6 +8,17 @@
 #include "core/angles.h"
 
 namespace acq {
+
+const char* RowLookupName(RowLookup lookup) {
+  return lookup == RowLookup::kNearest ? "nearest" : "interpolated";
+}
+
+std::optional<RowLookup> ParseRowLookup(const std::string& name) {
+  for (RowLookup l : {RowLookup::kNearest, RowLookup::kInterpolated})
+    if (name == RowLookupName(l)) return l;
+  return std::nullopt;
+}
+
 namespace {
 
 // Continuous index coordinates, bin centres at integers.

@@ -7,6 +7,8 @@
 
 #include <Eigen/Core>
 #include <array>
+#include <optional>
+#include <string>
 
 #include "brdf/basis.h"
 #include "core/rusinkiewicz.h"
@@ -14,6 +16,9 @@
 namespace acq {
 
 enum class RowLookup { kNearest, kInterpolated };
+// The names plans, maps and the CLI use ("nearest", "interpolated"); nullopt for another name.
+const char* RowLookupName(RowLookup lookup);
+std::optional<RowLookup> ParseRowLookup(const std::string& name);
 
 struct BasisSample {
   float mean = 0, ref = 0;  // mu and rho_ref at the directions

@@ -103,11 +103,14 @@ std::vector<std::string> Args::All(const std::string& name) const {
 
 namespace {
 
+// Throws when `x` (given as `v`) lies outside [lo, hi].
 template <class T>
-std::string Text(T v) {
-  std::ostringstream s;
-  s << v;
-  return s.str();
+void CheckRange(const std::string& option, const std::string& command, const std::string& v, T x,
+                T lo, T hi) {
+  if (x >= lo && x <= hi) return;
+  std::ostringstream range;
+  range << lo << " to " << hi;
+  throw UserError(option, v + " is outside " + range.str(), "see `" + command + " --help`");
 }
 
 }  // namespace
@@ -124,9 +127,7 @@ int Args::GetInt(const std::string& name, int fallback, int lo, int hi) const {
   }
   if (used != v.size() || v.empty())
     throw UserError(command_ + " --" + name, "expected an integer, got '" + v + "'");
-  if (x < lo || x > hi)
-    throw UserError(command_ + " --" + name, v + " is outside " + Text(lo) + " to " + Text(hi),
-                    "see `" + command_ + " --help`");
+  CheckRange(command_ + " --" + name, command_, v, x, lo, hi);
   return x;
 }
 
@@ -144,9 +145,7 @@ double Args::GetDouble(const std::string& name, double fallback, double lo, doub
     throw UserError(command_ + " --" + name, "expected a number, got '" + v + "'");
   if (!std::isfinite(x))
     throw UserError(command_ + " --" + name, "expected a finite number, got '" + v + "'");
-  if (x < lo || x > hi)
-    throw UserError(command_ + " --" + name, v + " is outside " + Text(lo) + " to " + Text(hi),
-                    "see `" + command_ + " --help`");
+  CheckRange(command_ + " --" + name, command_, v, x, lo, hi);
   return x;
 }
 

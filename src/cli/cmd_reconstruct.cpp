@@ -19,8 +19,7 @@ namespace {
 
 RowLookup LookupFrom(const Args& args) {
   const std::string l = args.Get("lookup", "nearest");
-  if (l == "nearest") return RowLookup::kNearest;
-  if (l == "interpolated") return RowLookup::kInterpolated;
+  if (const std::optional<RowLookup> lookup = ParseRowLookup(l)) return *lookup;
   throw UserError("--lookup", "must be 'nearest' or 'interpolated', got '" + l + "'");
 }
 

@@ -7,7 +7,6 @@
 #include <signal.h>
 
 #include <atomic>
-#include <cstring>
 #include <string>
 
 #include "core/error.h"
@@ -28,13 +27,13 @@ inline bool StopRequested() {
 class Stopped : public UserError {
  public:
   explicit Stopped(int signal_number)
-      : UserError("acqd", std::string("stopped by ") + sigabbrev(signal_number),
+      : UserError("acqd", "stopped by " + SignalName(signal_number),
                   "the gantry is stopped; run acqd again with the same plan to resume"),
         signal_(signal_number) {}
   int signal_number() const { return signal_; }
 
  private:
-  static std::string sigabbrev(int s) {
+  static std::string SignalName(int s) {
     return s == SIGTERM ? "SIGTERM" : s == SIGINT ? "SIGINT" : "signal " + std::to_string(s);
   }
   int signal_;

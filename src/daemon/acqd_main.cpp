@@ -304,9 +304,7 @@ int Run(int argc, char** argv) {
                        "the directions this session used: " + plan.directions_file);
     catalog.Event("info", "session started (" + std::string(BackendName(plan.backend)) + ")");
     phase("homing");
-    const TrapezoidProfile& slowest =
-        plan.motion.theta.speed < plan.motion.phi.speed ? plan.motion.theta : plan.motion.phi;
-    HomeAndWait(gantry, HomingTimeoutSeconds(slowest, plan.motion.settle_s));
+    HomeAndWait(gantry, HomingTimeoutSeconds(plan.motion.SlowestAxis(), plan.motion.settle_s));
     phase("planning the visiting order");
     auto planning_start = SteadyClock::now();
     const SessionVisits visits = PlanVisits(plan);

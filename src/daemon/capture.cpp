@@ -3,7 +3,6 @@
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
-#include <sstream>
 #include <thread>
 
 #include "acq/hdr.h"
@@ -115,21 +114,10 @@ std::string StreamAttribute(const StreamStatistics& s) {
   return text;
 }
 
-// A bracket as the catalog's decision and the frames' attribute hold it.
-std::string BracketText(const std::vector<double>& exposures) {
-  std::ostringstream out;
-  out.precision(17);
-  for (double t : exposures) out << t << ' ';
-  return out.str();
-}
-
 std::vector<double> RecordedBracket(const Plan& plan, const CaptureStep& step, int pose,
                                     const SessionCatalog& catalog) {
   if (!plan.auto_bracket && step.max_auto_frames == 0) return plan.bracket_us;
-  std::istringstream in(catalog.Decision(BracketDecisionKey(step.step, pose)));
-  std::vector<double> exposures;
-  for (double t; in >> t;) exposures.push_back(t);
-  return exposures;
+  return ParseBracketText(catalog.Decision(BracketDecisionKey(step.step, pose)));
 }
 
 // The automatic bracket chosen at the pose the gantry holds, recorded so that a resumed run
@@ -210,8 +198,6 @@ CaptureReport Capture(const Plan& plan, const CaptureStep& step, CaptureContext&
   SessionStatus& status = c.status;
   status.state = DaemonState::kRunning;
   const std::vector<PlannedPose>& poses = step.visit->poses;
-  const TrapezoidProfile slowest =
-      plan.motion.theta.speed < plan.motion.phi.speed ? plan.motion.theta : plan.motion.phi;
   for (std::size_t i = 0; i < poses.size(); ++i, ++c.poses_done) {
     const PlannedPose& pose = poses[i];
     const std::string where =
@@ -235,7 +221,7 @@ CaptureReport Capture(const Plan& plan, const CaptureStep& step, CaptureContext&
     status.step = where + ": moving";
     SafePoint(c);
     const auto move_start = SteadyClock::now();
-    MoveAndWait(c.gantry, pose.arms, slowest, plan.motion.settle_s);
+    MoveAndWait(c.gantry, pose.arms, plan.motion.SlowestAxis(), plan.motion.settle_s);
     report.motion_s += SecondsSince(move_start);
     const GantryStatus arrived = c.gantry.Status();
     const ArmAngles& m = arrived.measured;

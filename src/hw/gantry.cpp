@@ -27,10 +27,12 @@ void MoveAndWait(Gantry& gantry, const ArmAngles& target, const TrapezoidProfile
 
 namespace {
 
+enum class Motion { kMove, kHoming };
+
 // Waits until the arms stand still, renewing the lease; throws on a fault, on a stop signal
-// (the arms stopped first) and when `timeout_s` passes on the controller's clock. `what`
-// names the motion in messages ("the move", "homing").
-void WaitUntilStill(Gantry& gantry, double timeout_s, const std::string& what) {
+// (the arms stopped first) and when `timeout_s` passes on the controller's clock.
+void WaitUntilStill(Gantry& gantry, double timeout_s, Motion motion) {
+  const std::string what = motion == Motion::kMove ? "the move" : "homing";
   // Elapsed time on the controller's clock: the time the move itself takes (a simulated gantry
   // runs faster than the wall clock). The wall clock only guards against a frozen device clock.
   const std::uint32_t start_ms = gantry.Status().device_clock_ms;
@@ -55,7 +57,7 @@ void WaitUntilStill(Gantry& gantry, double timeout_s, const std::string& what) {
       std::snprintf(seconds, sizeof seconds, "%.1f", timeout_s);
       gantry.Stop();
       throw UserError("gantry",
-                      (what == "homing" ? "homing did not end" : "the arms did not arrive") +
+                      (motion == Motion::kMove ? "the arms did not arrive" : "homing did not end") +
                           std::string(" within ") + seconds + " s",
                       "the arms were stopped; check the axis speeds in the plan against the "
                       "gantry's and look for an obstruction");
@@ -69,7 +71,7 @@ void WaitUntilStill(Gantry& gantry, double timeout_s, const std::string& what) {
 void MoveAndWait(Gantry& gantry, const ArmAngles& target, double timeout_s) {
   gantry.RenewLease(2000);
   gantry.MoveTo(target);
-  WaitUntilStill(gantry, timeout_s, "the move");
+  WaitUntilStill(gantry, timeout_s, Motion::kMove);
 }
 
 double HomingTimeoutSeconds(const TrapezoidProfile& axis, double settle_s) {
@@ -80,7 +82,7 @@ double HomingTimeoutSeconds(const TrapezoidProfile& axis, double settle_s) {
 void HomeAndWait(Gantry& gantry, double timeout_s) {
   gantry.RenewLease(2000);
   gantry.Home();
-  WaitUntilStill(gantry, timeout_s, "homing");
+  WaitUntilStill(gantry, timeout_s, Motion::kHoming);
   const GantryStatus s = gantry.Status();
   if (!s.Homed())
     throw UserError(

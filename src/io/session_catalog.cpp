@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <regex>
 #include <set>
+#include <sstream>
 
 #include "core/error.h"
 #include "core/sha256.h"
@@ -232,6 +233,20 @@ std::string FrameFileName(const std::string& step, int pose, double exposure_us)
 
 std::string BracketDecisionKey(const std::string& step, int pose) {
   return "bracket/" + step + "/" + std::to_string(pose);
+}
+
+std::string BracketText(const std::vector<double>& exposures_us) {
+  std::ostringstream out;
+  out.precision(17);
+  for (double t : exposures_us) out << t << ' ';
+  return out.str();
+}
+
+std::vector<double> ParseBracketText(const std::string& text) {
+  std::istringstream in(text);
+  std::vector<double> exposures;
+  for (double t; in >> t;) exposures.push_back(t);
+  return exposures;
 }
 
 bool IsFrameFileName(const std::string& filename) {

@@ -80,8 +80,12 @@ class SessionCatalog {
 // The session's name for a frame file ("frames/sample_007_16000us.exr"), and whether a file
 // name under frames/ is one acqd writes (a frame, or one being written: ".partial").
 std::string FrameFileName(const std::string& step, int pose, double exposure_us);
-// The decision key of the automatic bracket chosen at a pose ("bracket/sample/7").
+// The decision key of the automatic bracket chosen at a pose ("bracket/sample/7"), and the
+// bracket's text as the decision and each frame's `bracket_us` attribute hold it (exposures in
+// microseconds, space-separated, exact to the last bit).
 std::string BracketDecisionKey(const std::string& step, int pose);
+std::string BracketText(const std::vector<double>& exposures_us);
+std::vector<double> ParseBracketText(const std::string& text);
 bool IsFrameFileName(const std::string& filename);
 
 // Writes `bytes` to `path` as the catalog requires: to path + ".partial", flushed to disk, then

@@ -65,8 +65,7 @@ SessionLock::SessionLock(const std::string& session_dir, const std::string& prog
 SessionLock::~SessionLock() {
   // Emptied, not removed: removing it would let a third process lock a new file while a second
   // still waits on the old one's inode.
-  if (::ftruncate(fd_, 0) != 0) {
-  }
+  (void)!::ftruncate(fd_, 0);
   ::close(fd_);
 }
 
