@@ -17,11 +17,16 @@ void BoardSpec::Check(const std::string& where) const {
                     "give --spacing-mm, the side of one square in millimetres");
 }
 
-std::vector<Eigen::Vector3d> BoardSpec::CornersInBoard() const {
+std::vector<Eigen::Vector3d> BoardSpec::CornersInBoard(const Eigen::Vector2d& warp_mm) const {
   std::vector<Eigen::Vector3d> out;
   out.reserve(Corners());
   for (int j = 0; j < height_n; ++j)
-    for (int i = 0; i < width_n; ++i) out.emplace_back(i * spacing_mm, j * spacing_mm, 0.0);
+    for (int i = 0; i < width_n; ++i) {
+      const double u = static_cast<double>(i) / (width_n - 1);
+      const double v = static_cast<double>(j) / (height_n - 1);
+      const double z = warp_mm.x() * 4 * u * (1 - u) + warp_mm.y() * 4 * v * (1 - v);
+      out.emplace_back(i * spacing_mm, j * spacing_mm, z);
+    }
   return out;
 }
 

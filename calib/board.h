@@ -18,7 +18,10 @@ struct BoardSpec {
   // Throws UserError (where = `where`) unless both counts are >= 2 and the spacing is positive.
   void Check(const std::string& where) const;
   // Corner positions in the board frame, row-major (j outer, i inner), as mrcal orders them.
-  std::vector<Eigen::Vector3d> CornersInBoard() const;
+  // `warp_mm` is mrcal's board warp (x2, y2): the board bowed out of its plane along two
+  // parabolas, z = x2 * 4u(1-u) + y2 * 4v(1-v) with u, v from 0 to 1 across the corner grid.
+  std::vector<Eigen::Vector3d> CornersInBoard(
+      const Eigen::Vector2d& warp_mm = Eigen::Vector2d::Zero()) const;
   Eigen::Vector3d Centre() const;  // of the corner grid, in the board frame
 };
 

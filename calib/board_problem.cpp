@@ -127,10 +127,10 @@ std::vector<double> BoardProblem::Measurements(const Selections& s) const {
   const int imagersize[2] = {camera_.width(), camera_.height()};
   if (!mrcal_optimizer_callback(b.data(), nstate * sizeof(double), x.data(), nmeas * sizeof(double),
                                 nullptr, camera_.intrinsics().data(), nullptr, frames.data(),
-                                nullptr, s.warp ? &warp_ : nullptr, 1, 0, Frames(), 0, 0,
-                                observations_.data(), nullptr, Frames(), 0, pool_.data(),
-                                &camera_.lensmodel(), imagersize, s.ToMrcal(), &kConstants,
-                                board_.spacing_mm, board_.width_n, board_.height_n, false))
+                                nullptr, &warp_, 1, 0, Frames(), 0, 0, observations_.data(),
+                                nullptr, Frames(), 0, pool_.data(), &camera_.lensmodel(),
+                                imagersize, s.ToMrcal(), &kConstants, board_.spacing_mm,
+                                board_.width_n, board_.height_n, false))
     throw std::logic_error("mrcal_optimizer_callback failed");
   return x;
 }

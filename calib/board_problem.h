@@ -32,7 +32,8 @@ class BoardProblem {
   void Optimize(const Selections& selections);
 
   // The measurement vector x at the current values (boards first, 2 per corner, weighted; then
-  // regularization), for `selections`.
+  // regularization), for `selections`. The board is the one solved for: bowed by warp() whether
+  // or not `selections` frees the warp (zero until a solve frees it).
   std::vector<double> Measurements(const Selections& selections) const;
   int BoardMeasurements() const;  // leading entries of Measurements() that are board residuals
 

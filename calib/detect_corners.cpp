@@ -1,8 +1,11 @@
 #include "calib/detect_corners.h"
 
 #include <algorithm>
+#include <cmath>
+#include <complex>
 #include <cstdio>
 #include <cstdlib>
+#include <functional>
 
 #include <mrgingham/mrgingham.hh>
 #include <opencv2/calib3d.hpp>
@@ -97,16 +100,174 @@ BoardObservation Opencv(const cv::Mat& grey, const BoardSpec& board, bool thorou
   return obs;
 }
 
+double Median(std::vector<double> v) {
+  std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
+  return v[v.size() / 2];
+}
+
+// CornerLikeness above this is a corner: an ideal inner corner scores 1 (the first harmonic
+// vanishes), the seam where the outermost squares meet the margin 2 sin(pi/2) / (2 sin(pi/2) +
+// 2 sqrt 2 sin(pi/4)) = 0.41 (measured 0.38-0.44 on rendered boards, blur 0.6 px), a flat region
+// or a straight edge less.
+constexpr double kCornerScore = 0.7;
+
+// How much the grey levels on a circle of radius `r` around `p` look like a chessboard's inner
+// corner: the second angular harmonic (dark, light, dark, light) against the first (one side
+// dark, as at the board's outer edge, where the last squares meet the margin). Returns the
+// second harmonic's amplitude (grey levels) in `amplitude` and a score in [0, 1]: near 1 at an
+// inner corner, below about 0.45 on an edge or in a flat region (docs/calibration.md).
+double CornerLikeness(const cv::Mat& grey, const cv::Point2d& p, double r, double* amplitude) {
+  const int n = 32;
+  std::complex<double> h1 = 0, h2 = 0;
+  for (int k = 0; k < n; ++k) {
+    const double t = 2 * M_PI * k / n;
+    const cv::Point2d q(p.x + r * std::cos(t), p.y + r * std::sin(t));
+    const int x = static_cast<int>(std::floor(q.x)), y = static_cast<int>(std::floor(q.y));
+    const double fx = q.x - x, fy = q.y - y;
+    auto at = [&](int xx, int yy) { return static_cast<double>(grey.at<std::uint8_t>(yy, xx)); };
+    const double v = (1 - fy) * ((1 - fx) * at(x, y) + fx * at(x + 1, y)) +
+                     fy * ((1 - fx) * at(x, y + 1) + fx * at(x + 1, y + 1));
+    h1 += v * std::polar(1.0, t);
+    h2 += v * std::polar(1.0, 2 * t);
+  }
+  const double a1 = 2 * std::abs(h1) / n, a2 = 2 * std::abs(h2) / n;
+  *amplitude = a2;
+  return a1 + a2 > 0 ? a2 / (a1 + a2) : 0;
+}
+
 }  // namespace
 
-BoardObservation DetectCorners(const cv::Mat& image, const BoardSpec& board, Detector detector) {
+std::optional<BoardSide> BoardExtendsBeyond(const cv::Mat& image, const BoardSpec& board,
+                                            const BoardObservation& found) {
+  if (!found.found()) return std::nullopt;
   const cv::Mat grey = To8Bit(image);
+  const int w = board.width_n, h = board.height_n;
+  auto corner = [&](int i, int j) -> std::optional<cv::Point2d> {
+    const Eigen::Vector3d& c = found.corners[j * w + i];
+    if (c.z() <= 0) return std::nullopt;
+    return cv::Point2d(c.x(), c.y());
+  };
+  auto inside = [&](const cv::Point2d& p, double r) {
+    return p.x - r >= 0 && p.y - r >= 0 && p.x + r + 1 < grey.cols && p.y + r + 1 < grey.rows;
+  };
+  // The contrast of the detected corners themselves, the yardstick for a corner beyond.
+  std::vector<double> inner;
+  for (int j = 0; j < h; ++j)
+    for (int i = 0; i + 1 < w; ++i) {
+      const auto a = corner(i, j), b = corner(i + 1, j);
+      const double r = a && b ? 0.3 * cv::norm(*b - *a) : 0;
+      if (!a || !b || !inside(*a, r)) continue;
+      double amplitude;
+      CornerLikeness(grey, *a, r, &amplitude);
+      inner.push_back(amplitude);
+    }
+  if (inner.empty()) return std::nullopt;
+  const double inner_amplitude = Median(inner);
+  // Each side: corner k on the edge and its neighbour one step inside, (i, j) of both.
+  using Ij = std::pair<int, int>;
+  struct Side {
+    BoardSide side;
+    int count;
+    std::function<Ij(int)> edge, next;
+  };
+  const Side sides[] = {
+      {BoardSide::kLeft, h,
+       [](int k) {
+         return Ij{0, k};
+       },
+       [](int k) {
+         return Ij{1, k};
+       }},
+      {BoardSide::kRight, h,
+       [w](int k) {
+         return Ij{w - 1, k};
+       },
+       [w](int k) {
+         return Ij{w - 2, k};
+       }},
+      {BoardSide::kTop, w,
+       [](int k) {
+         return Ij{k, 0};
+       },
+       [](int k) {
+         return Ij{k, 1};
+       }},
+      {BoardSide::kBottom, w,
+       [h](int k) {
+         return Ij{k, h - 1};
+       },
+       [h](int k) {
+         return Ij{k, h - 2};
+       }},
+  };
+  for (const Side& side : sides) {
+    std::vector<double> scores, amplitudes;
+    for (int k = 0; k < side.count; ++k) {
+      const auto e = corner(side.edge(k).first, side.edge(k).second);
+      const auto n = corner(side.next(k).first, side.next(k).second);
+      if (!e || !n) continue;
+      // One step further along the grid: a corner of the same board if it goes on, the seam of
+      // the last squares and the margin if it ends there.
+      const cv::Point2d beyond = 2 * *e - *n;
+      const double r = 0.3 * cv::norm(*e - *n);
+      if (!inside(beyond, r)) continue;
+      double amplitude;
+      scores.push_back(CornerLikeness(grey, beyond, r, &amplitude));
+      amplitudes.push_back(amplitude);
+    }
+    // Half the side in view at least, so that a single stray corner-like spot cannot decide.
+    if (2 * static_cast<int>(scores.size()) < side.count) continue;
+    if (Median(scores) > kCornerScore && Median(amplitudes) > 0.5 * inner_amplitude)
+      return side.side;
+  }
+  return std::nullopt;
+}
+
+std::string BoardSideName(BoardSide side) {
+  switch (side) {
+    case BoardSide::kLeft:
+      return "left";
+    case BoardSide::kRight:
+      return "right";
+    case BoardSide::kTop:
+      return "top";
+    case BoardSide::kBottom:
+      return "bottom";
+  }
+  return "?";
+}
+
+namespace {
+
+BoardObservation Detect(const cv::Mat& grey, const BoardSpec& board, Detector detector) {
   if (detector == Detector::kOpencv || board.width_n != board.height_n) return Opencv(grey, board);
   BoardObservation found = Mrgingham(grey, board);
   // auto: mrgingham misses boards of few pixels per square (under ~20, a long lens over a
   // small sample) that OpenCV's classic detector finds; its quick form, so that images without
   // the board (a wrong --board) are not searched exhaustively.
   if (!found.found() && detector == Detector::kAuto) return Opencv(grey, board, false);
+  return found;
+}
+
+}  // namespace
+
+BoardObservation DetectCorners(const cv::Mat& image, const BoardSpec& board, Detector detector) {
+  const cv::Mat grey = To8Bit(image);
+  BoardObservation found = Detect(grey, board, detector);
+  // A detector finds a W x H grid inside a larger board as readily as the whole board; the
+  // solve would then take the corners for the wrong ones and fit a wrong lens without a sign.
+  if (const std::optional<BoardSide> side = BoardExtendsBeyond(grey, board, found)) {
+    const bool column = *side == BoardSide::kLeft || *side == BoardSide::kRight;
+    const std::string larger =
+        std::to_string(board.width_n + column) + "x" + std::to_string(board.height_n + !column);
+    throw UserError(
+        "--board " + std::to_string(board.width_n) + "x" + std::to_string(board.height_n),
+        "the board in the image is larger: a further " + std::string(column ? "column" : "row") +
+            " of inner corners lies beyond the " + BoardSideName(*side) + " of the grid found",
+        "count the inner corners (where four squares meet) of the printed board; it "
+        "has at least " +
+            larger);
+  }
   return found;
 }
 
@@ -118,7 +279,12 @@ std::vector<BoardObservation> DetectCornersInFiles(const std::vector<std::string
     const cv::Mat image = cv::imread(path, cv::IMREAD_ANYDEPTH | cv::IMREAD_GRAYSCALE);
     if (image.empty())
       throw UserError(path, "cannot read this image", "give PNG, TIFF or JPEG files that exist");
-    BoardObservation obs = DetectCorners(image, board, detector);
+    BoardObservation obs;
+    try {
+      obs = DetectCorners(image, board, detector);
+    } catch (const UserError& e) {
+      throw UserError(path + ": " + e.where(), e.problem(), e.fix());
+    }
     obs.image = path;
     if (!quiet)
       std::fprintf(stderr, "  %s: %s\n", path.c_str(),

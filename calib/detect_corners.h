@@ -2,6 +2,7 @@
 // OpenCV's detector with sub-pixel refinement for any W x H board.
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -18,8 +19,18 @@ enum class Detector { kAuto, kMrgingham, kOpencv };
 Detector ParseDetector(const std::string& name, const BoardSpec& board);
 
 // Corners of `board` in an 8- or 16-bit grey image; an empty observation when not found.
-// The returned observation's `image` is left empty for the caller to name.
+// The returned observation's `image` is left empty for the caller to name. UserError when the
+// grid found is part of a larger board (BoardExtendsBeyond): --board does not match the print.
 BoardObservation DetectCorners(const cv::Mat& image, const BoardSpec& board, Detector detector);
+
+enum class BoardSide { kLeft, kRight, kTop, kBottom };
+
+// Whether the board in `image` has a further row or column of inner corners beyond one side of
+// the grid `found` (a board larger than `board` says: a detector finds a W x H grid inside a
+// larger board as readily as the whole board). The side, or nothing.
+std::optional<BoardSide> BoardExtendsBeyond(const cv::Mat& image, const BoardSpec& board,
+                                            const BoardObservation& found);
+std::string BoardSideName(BoardSide side);
 
 // Reads each image (UserError naming a file that cannot be read) and detects; prints one line
 // per image to stderr unless quiet.

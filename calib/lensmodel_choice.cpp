@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include <Eigen/Geometry>
 #include <Eigen/LU>
 #include <Eigen/SVD>
 
@@ -16,44 +17,79 @@ std::vector<std::string> DefaultLadder(int width, double focal_px) {
           SplinedModelFor(width, focal_px)};
 }
 
-double ProjectionDifference(const CameraModel& a, const CameraModel& b,
-                            const std::vector<BoardObservation>& images, double distance_mm) {
+std::vector<Eigen::Vector2d> SharedObservedPixels(int width, int height,
+                                                  const std::vector<BoardObservation>& a,
+                                                  const std::vector<BoardObservation>& b) {
   const int nx = 32, ny = 24;
-  const std::vector<bool> covered = CoveredCells(a.width(), a.height(), images, nx, ny);
+  const std::vector<bool> in_a = CoveredCells(width, height, a, nx, ny);
+  const std::vector<bool> in_b = CoveredCells(width, height, b, nx, ny);
   std::vector<Eigen::Vector2d> q;
   for (int j = 0; j < ny; ++j)
     for (int i = 0; i < nx; ++i)
-      if (covered[j * nx + i])
-        q.emplace_back((i + 0.5) * a.width() / nx - 0.5, (j + 0.5) * a.height() / ny - 0.5);
-  if (q.empty()) return std::numeric_limits<double>::quiet_NaN();
-  const std::vector<Eigen::Vector3d> va = a.Unproject(q), vb = b.Unproject(q);
-  // Kabsch with translation: the rigid transform T minimising sum |T pa - pb|^2 for the points
-  // each model sees at `distance_mm` through the same pixels.
+      if (in_a[j * nx + i] && in_b[j * nx + i])
+        q.emplace_back((i + 0.5) * width / nx - 0.5, (j + 0.5) * height / ny - 0.5);
+  return q;
+}
+
+namespace {
+
+// The rigid transform T minimising sum |T pa - pb|^2 (Kabsch with translation).
+Eigen::Isometry3d BestRigidFit(const std::vector<Eigen::Vector3d>& pa,
+                               const std::vector<Eigen::Vector3d>& pb) {
   Eigen::Vector3d ca = Eigen::Vector3d::Zero(), cb = Eigen::Vector3d::Zero();
-  for (std::size_t i = 0; i < q.size(); ++i) {
-    ca += va[i] * distance_mm / q.size();
-    cb += vb[i] * distance_mm / q.size();
+  for (std::size_t i = 0; i < pa.size(); ++i) {
+    ca += pa[i] / pa.size();
+    cb += pb[i] / pa.size();
   }
   Eigen::Matrix3d H = Eigen::Matrix3d::Zero();
-  for (std::size_t i = 0; i < q.size(); ++i)
-    H += (va[i] * distance_mm - ca) * (vb[i] * distance_mm - cb).transpose();
+  for (std::size_t i = 0; i < pa.size(); ++i) H += (pa[i] - ca) * (pb[i] - cb).transpose();
   const Eigen::JacobiSVD<Eigen::Matrix3d> svd(H, Eigen::ComputeFullU | Eigen::ComputeFullV);
   Eigen::Matrix3d D = Eigen::Matrix3d::Identity();
   D(2, 2) = (svd.matrixV() * svd.matrixU().transpose()).determinant() < 0 ? -1 : 1;
-  const Eigen::Matrix3d R = svd.matrixV() * D * svd.matrixU().transpose();
-  const Eigen::Vector3d t = cb - R * ca;
-  std::vector<Eigen::Vector3d> rotated;
-  for (const Eigen::Vector3d& v : va) rotated.push_back(R * v * distance_mm + t);
-  const std::vector<Eigen::Vector2d> qb = b.Project(rotated);
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.linear() = svd.matrixV() * D * svd.matrixU().transpose();
+  T.translation() = cb - T.linear() * ca;
+  return T;
+}
+
+}  // namespace
+
+ProjectionDiff ProjectionDifference(const CameraModel& a, const CameraModel& b,
+                                    const std::vector<Eigen::Vector2d>& pixels,
+                                    double distance_mm) {
+  ProjectionDiff out;
+  out.points = static_cast<int>(pixels.size());
+  const std::vector<Eigen::Vector3d> va = a.Unproject(pixels), vb = b.Unproject(pixels);
+  // Only points both models unproject enter the fit; the others are divergences.
+  std::vector<Eigen::Vector2d> q;
+  std::vector<Eigen::Vector3d> pa, pb;
+  for (std::size_t i = 0; i < pixels.size(); ++i)
+    if (va[i].allFinite() && vb[i].allFinite()) {
+      q.push_back(pixels[i]);
+      pa.push_back(va[i] * distance_mm);
+      pb.push_back(vb[i] * distance_mm);
+    }
+  out.diverged = out.points - static_cast<int>(q.size());
+  if (q.empty()) {
+    out.rms_px = std::numeric_limits<double>::quiet_NaN();
+    return out;
+  }
+  const Eigen::Isometry3d T = BestRigidFit(pa, pb);
+  for (Eigen::Vector3d& p : pa) p = T * p;
+  const std::vector<Eigen::Vector2d> qb = b.Project(pa);
   double sum = 0;
   int n = 0;
   for (std::size_t i = 0; i < q.size(); ++i) {
     const double d2 = (qb[i] - q[i]).squaredNorm();
-    if (!std::isfinite(d2)) return std::numeric_limits<double>::infinity();  // model diverges
+    if (!std::isfinite(d2)) {
+      ++out.diverged;
+      continue;
+    }
     sum += d2;
     ++n;
   }
-  return std::sqrt(sum / n);
+  out.rms_px = n ? std::sqrt(sum / n) : std::numeric_limits<double>::quiet_NaN();
+  return out;
 }
 
 LensModelChoice ChooseLensModel(int width, int height, const BoardSpec& board,
@@ -69,6 +105,13 @@ LensModelChoice ChooseLensModel(int width, int height, const BoardSpec& board,
                     "cross-validation needs " + std::to_string(2 * options.min_boards) +
                         " boards (two halves), only " + std::to_string(k) + " were found",
                     "take more images, or name a lens model with --lensmodel");
+  const std::vector<Eigen::Vector2d> shared = SharedObservedPixels(width, height, half[0], half[1]);
+  if (shared.empty())
+    throw UserError("--lensmodel auto",
+                    "the two halves of the images observe no common part of the imager, so "
+                    "their solves cannot be compared",
+                    "take images with the board over the whole view, or name a lens model with "
+                    "--lensmodel");
   LensModelChoice choice;
   for (const std::string& model : ladder) {
     IntrinsicsOptions o = options;
@@ -76,24 +119,33 @@ LensModelChoice ChooseLensModel(int width, int height, const BoardSpec& board,
     const IntrinsicsSolution full = SolveIntrinsics(width, height, board, images, o);
     const IntrinsicsSolution a = SolveIntrinsics(width, height, board, half[0], o);
     const IntrinsicsSolution b = SolveIntrinsics(width, height, board, half[1], o);
+    const ProjectionDiff diff = ProjectionDifference(a.problem.camera(), b.problem.camera(), shared,
+                                                     MedianBoardDistance(full.problem));
     choice.rows.push_back({model, static_cast<int>(full.problem.camera().intrinsics().size()),
-                           full.rms_per_coordinate,
-                           ProjectionDifference(a.problem.camera(), b.problem.camera(), images,
-                                                MedianBoardDistance(full.problem)),
+                           full.rms_per_coordinate, diff.rms_px, diff.points, diff.diverged,
                            full.solve_seconds});
   }
   // The noise floor: the smallest cross-validation difference on the ladder. A model that fits
   // the lens has a difference made of noise only; the richest model is meant to be that model,
   // but a spline the boards do not fully constrain shows its own indeterminacy instead
   // (docs/lens-model-choice.md), so the floor is taken over all rungs.
+  // A model that does not project everywhere its own data lie is not a candidate.
   double noise = std::numeric_limits<double>::infinity();
-  for (const LadderRow& r : choice.rows) noise = std::min(noise, r.cv_diff_px);
+  for (const LadderRow& r : choice.rows)
+    if (r.cv_diverged == 0) noise = std::min(noise, r.cv_diff_px);
   choice.noise_floor_px = noise;
   for (std::size_t i = 0; i < choice.rows.size(); ++i)
-    if (choice.rows[i].cv_diff_px <= choice.noise_ratio * noise) {
+    if (choice.rows[i].cv_diverged == 0 &&
+        choice.rows[i].cv_diff_px <= choice.noise_ratio * noise) {
       choice.chosen = static_cast<int>(i);
       break;
     }
+  if (choice.chosen < 0)
+    throw UserError("--lensmodel auto",
+                    "no model of the ladder projects everywhere its half of the images saw "
+                    "the board",
+                    "take more images, the board reaching every part of the view in both "
+                    "halves, or name a lens model with --lensmodel");
   return choice;
 }
 
@@ -102,14 +154,20 @@ void PrintLadder(std::FILE* out, const LensModelChoice& c) {
                "solve s");
   for (std::size_t i = 0; i < c.rows.size(); ++i) {
     const LadderRow& r = c.rows[i];
-    std::fprintf(out, "%-62s %6d %10.4f %12.4f %9.2f%s\n", r.lensmodel.c_str(), r.params,
-                 r.rms_per_coordinate, r.cv_diff_px, r.solve_seconds,
+    char diverged[80] = "";
+    if (r.cv_diverged)
+      std::snprintf(diverged, sizeof diverged, "  diverges at %d of %d points", r.cv_diverged,
+                    r.cv_points);
+    std::fprintf(out, "%-62s %6d %10.4f %12.4f %9.2f%s%s\n", r.lensmodel.c_str(), r.params,
+                 r.rms_per_coordinate, r.cv_diff_px, r.solve_seconds, diverged,
                  static_cast<int>(i) == c.chosen ? "  <- chosen" : "");
   }
+  const int points = c.rows.empty() ? 0 : c.rows.front().cv_points;
   std::fprintf(out,
-               "criterion: the simplest model whose cross-validation difference is at most %.1f x "
-               "the noise floor (the smallest on the ladder, %.4f px)\n",
-               c.noise_ratio, c.noise_floor_px);
+               "compared at %d grid points where both halves saw corners; criterion: the simplest "
+               "model that projects at all of them and whose cross-validation difference is at "
+               "most %.1f x the noise floor (the smallest such difference, %.4f px)\n",
+               points, c.noise_ratio, c.noise_floor_px);
 }
 
 }  // namespace acq::calib

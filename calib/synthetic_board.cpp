@@ -133,11 +133,12 @@ std::vector<Pose> SampleBoardPoses(const CameraModel& camera, const BoardSpec& b
 
 std::vector<BoardObservation> SynthesizeCorners(const CameraModel& camera, const BoardSpec& board,
                                                 const std::vector<Pose>& cam_from_board,
-                                                double noise_px, std::uint64_t seed) {
+                                                double noise_px, std::uint64_t seed,
+                                                const Eigen::Vector2d& warp_mm) {
   std::mt19937_64 rng(seed);
   std::normal_distribution<double> noise(0, noise_px);
   std::vector<BoardObservation> out;
-  const std::vector<Eigen::Vector3d> corners = board.CornersInBoard();
+  const std::vector<Eigen::Vector3d> corners = board.CornersInBoard(warp_mm);
   for (std::size_t f = 0; f < cam_from_board.size(); ++f) {
     std::vector<Eigen::Vector3d> p_in_cam;
     for (const Eigen::Vector3d& p : corners) p_in_cam.push_back(cam_from_board[f] * p);

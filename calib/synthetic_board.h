@@ -38,10 +38,11 @@ std::vector<Pose> SampleBoardPoses(const CameraModel& camera, const BoardSpec& b
                                    const BoardPoseSampling& sampling);
 
 // Exact projections of the board's corners plus N(0, noise_px^2) per coordinate, weight 1;
-// corners that fall outside the imager are marked missing (weight -1).
-std::vector<BoardObservation> SynthesizeCorners(const CameraModel& camera, const BoardSpec& board,
-                                                const std::vector<Pose>& cam_from_board,
-                                                double noise_px, std::uint64_t seed);
+// corners that fall outside the imager are marked missing (weight -1). `warp_mm`: the board
+// bowed as mrcal models it (BoardSpec::CornersInBoard).
+std::vector<BoardObservation> SynthesizeCorners(
+    const CameraModel& camera, const BoardSpec& board, const std::vector<Pose>& cam_from_board,
+    double noise_px, std::uint64_t seed, const Eigen::Vector2d& warp_mm = Eigen::Vector2d::Zero());
 
 struct BoardRenderOptions {
   int supersample = 4;                               // per axis, for anti-aliased edges
