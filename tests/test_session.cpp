@@ -372,6 +372,42 @@ TEST_CASE("session: a whole simulated session, scored; kill -9 and resume give t
           JsonNumbers(report, "relative_rms"));
   }
 
+  // acq session process (issue 21): the finished session processed again by the library acqd
+  // calls. Into a copy, from the calibration on: the same map to the last bit (the processing
+  // is deterministic, and the copy's frames are the session's own, linked). With k = 10 from the
+  // reconstruction on: a new map and report in the new folder; the session itself untouched.
+  {
+    const std::string session = base + "/whole/session";
+    const std::string map_before = ReadText(session + "/svbrdf.exr");
+    const std::string acq = std::string(ACQ_PATH) + " session process " + session;
+    const std::string same = Output(acq + " -o " + base + "/processed 2>&1");
+    INFO(same);
+    const SvbrdfMap recorded = ReadSvbrdfMap(session + "/svbrdf.exr");
+    const SvbrdfMap processed = ReadSvbrdfMap(base + "/processed/svbrdf.exr");
+    REQUIRE(processed.planes.size() == recorded.planes.size());
+    for (std::size_t c = 0; c < recorded.planes.size(); ++c)
+      CHECK(processed.planes[c] == recorded.planes[c]);
+    CHECK(FrameMeans(base + "/processed") == reference);
+
+    const std::string k10 =
+        Output(acq + " --from reconstruction --set reconstruction.k=10 -o " + base + "/k10 2>&1");
+    INFO(k10);
+    CHECK(k10.find("reconstruction.k: 20 -> 10") != std::string::npos);
+    const SvbrdfMap ten = ReadSvbrdfMap(base + "/k10/svbrdf.exr");
+    CHECK(ten.info.components == 10);
+    CHECK(ten.planes.size() == SvbrdfChannelNames(10).size());
+    CHECK(JsonNumbers(ReadText(base + "/k10/report.json"), "relative_rms").size() == 3);
+    CHECK(ReadText(session + "/svbrdf.exr") == map_before);
+    CHECK(FrameMeans(session) == reference);
+
+    // What was captured cannot change, and a copy never lands inside its session.
+    const std::string gain = Output(acq + " --set camera.gain_db=6 -o " + base + "/gain 2>&1");
+    CHECK(gain.find("change what was captured: camera") != std::string::npos);
+    const std::string inside = Output(acq + " -o " + session + "/copy 2>&1");
+    CHECK(inside.find("inside the session") != std::string::npos);
+    CHECK(ReadText(session + "/svbrdf.exr") == map_before);
+  }
+
   // A lens calibrated before: `calibration.camera_model` names the uninterrupted run's model, so
   // no board is held up; the boards on the sample plane still give every view its pose.
   {

@@ -251,10 +251,12 @@ static void OptimizePlanDirections(Plan* plan) {
   CheckReachable(plan->directions, plan->motion);
 }
 
-Plan LoadPlan(const std::string& path) {
+Plan LoadPlan(const std::string& path, const std::string& relative_to) {
   const YAML::Node root = LoadPlanDocument(path);
   Plan plan;
   plan.path = path;
+  // Resolve() takes a file whose folder the paths are relative to.
+  const std::string base = relative_to.empty() ? path : (fs::path(relative_to) / "plan").string();
   const Section top(root, path, "",
                     {"version", "backend", "output", "replay", "sample", "gantry", "camera",
                      "directions", "calibration", "spectralon", "reconstruction", "sim"});
@@ -271,9 +273,9 @@ Plan LoadPlan(const std::string& path) {
   else
     throw UserError(top.Where("backend"), "unknown backend '" + backend + "'",
                     "use sim, usb+aravis or replay");
-  plan.output = Resolve(path, top.Required("output"));
+  plan.output = Resolve(base, top.Required("output"));
   if (plan.backend == Backend::kReplay) {
-    plan.replay_session = Resolve(path, top.Required("replay"));
+    plan.replay_session = Resolve(base, top.Required("replay"));
     if (!fs::is_directory(plan.replay_session))
       throw UserError(top.Where("replay"), "no session directory " + plan.replay_session,
                       "give the directory of a recorded session");
@@ -364,7 +366,7 @@ Plan LoadPlan(const std::string& path) {
     plan.optimize_candidates =
         int(optimizer.Integer("candidates", plan.optimize_candidates, 1, 1000000));
   } else {
-    plan.directions_file = Resolve(path, directions.Required("file"));
+    plan.directions_file = Resolve(base, directions.Required("file"));
     RequireFile(directions, "file", plan.directions_file,
                 "give a directions TSV (acq directions optimize writes one)");
     plan.directions = ReadDirectionsTsv(plan.directions_file);  // errors name file:line
@@ -373,7 +375,7 @@ Plan LoadPlan(const std::string& path) {
     CheckReachable(plan.directions, plan.motion);  // names the direction's file:line and rule
   }
   if (!directions.Text("validation").empty()) {
-    plan.validation_file = Resolve(path, directions.Text("validation"));
+    plan.validation_file = Resolve(base, directions.Text("validation"));
     RequireFile(directions, "validation", plan.validation_file,
                 "give a directions TSV of light/view pairs to check the result against, or "
                 "leave directions.validation out");
@@ -391,7 +393,7 @@ Plan LoadPlan(const std::string& path) {
                       "other",
                       "give the lens's .cameramodel, or the number of board captures to "
                       "calibrate it in this session");
-    plan.intrinsics_file = Resolve(path, calibration.Text("camera_model"));
+    plan.intrinsics_file = Resolve(base, calibration.Text("camera_model"));
     RequireFile(calibration, "camera_model", plan.intrinsics_file,
                 "give a .cameramodel written by acqd or `acq calibrate intrinsics`");
     plan.intrinsics_captures = 0;
@@ -440,7 +442,7 @@ Plan LoadPlan(const std::string& path) {
     for (const YAML::Node& m : materials) {
       if (!m.IsScalar())
         throw UserError(sim.Where(m), "sim.materials must list file names, not lists or maps");
-      const std::string file = Resolve(path, m.as<std::string>());
+      const std::string file = Resolve(base, m.as<std::string>());
       if (!fs::is_regular_file(file))
         throw UserError(sim.Where(m), "sim.materials: no such file " + file,
                         "data/nbrdf/merl has the fits of the 100 MERL materials");
@@ -458,7 +460,7 @@ Plan LoadPlan(const std::string& path) {
     throw UserError(sim.Where("light_intensity"), "sim.light_intensity must be positive");
 
   const Section recon = top.Child("reconstruction", {"basis", "k", "eta", "lookup", "row_tile"});
-  plan.basis_file = Resolve(path, recon.Required("basis"));
+  plan.basis_file = Resolve(base, recon.Required("basis"));
   RequireFile(recon, "basis", plan.basis_file, "build one with `acq basis build` (README)");
   plan.basis_where = recon.Where("basis");
   plan.components_where = recon.Where("k");

@@ -76,7 +76,9 @@ struct Plan {
 };
 
 // Reads and validates; throws UserError ("plan.yaml:12:5: ...") at the first problem. Checks
-// that the directions can be taken (reach and collision rules) but opens no device.
-Plan LoadPlan(const std::string& path);
+// that the directions can be taken (reach and collision rules) but opens no device. Relative
+// paths in the plan are relative to `relative_to`, by default the plan file's folder (a plan
+// copied into a session is read relative to where it was written, issue 21).
+Plan LoadPlan(const std::string& path, const std::string& relative_to = {});
 
 }  // namespace acq

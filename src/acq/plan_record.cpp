@@ -104,6 +104,10 @@ void CopyPlanFiles(const Plan& plan, const std::string& session) {
     return s.str();
   }();
   WriteFileAtomically(session + "/plan.yaml", text.data(), text.size());
+  // Where its relative paths point from: `acq process` reads the copy relative to this folder.
+  const std::string folder =
+      fs::absolute(fs::path(plan.path)).parent_path().lexically_normal().string() + "\n";
+  WriteFileAtomically(session + "/" + kPlanFolderFile, folder.data(), folder.size());
   std::vector<std::string> files = {plan.directions_file, plan.validation_file,
                                     plan.intrinsics_file};
   files.insert(files.end(), plan.sim_materials.begin(), plan.sim_materials.end());

@@ -16,6 +16,10 @@ namespace acq {
 
 class SessionCatalog;
 
+// In the session beside plan.yaml: the absolute folder of the plan file it was copied from (its
+// relative paths are relative to that folder).
+inline constexpr const char* kPlanFolderFile = "plan_folder.txt";
+
 struct PlanSetting {
   enum class Kind { kCapture, kProcessing };
   Kind kind;

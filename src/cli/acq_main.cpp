@@ -142,6 +142,14 @@ const std::map<std::string, Command>& Commands() {
         "  Rebuilds a session's catalog from its frames' own metadata (step, pose, exposure,\n"
         "  bracket) after catalog.sqlite was lost or emptied; deletes nothing. acqd refuses to\n"
         "  resume such a session and names this command."}},
+      {"session process",
+       {SessionProcess,
+        "acq session process SESSION [--from hdr|calibration|reconstruction]\n"
+        "    [--set reconstruction.k=10 ...] [-o NEW]\n"
+        "  Runs a captured session's processing again from a stage (default calibration: the\n"
+        "  HDR merges reused) with processing settings changed, into the session or into a\n"
+        "  new folder NEW (frames linked, never changed); writes the map and the report\n"
+        "  there. Capture settings cannot be changed (docs/session-and-plan.md)."}},
   };
   return commands;
 }

@@ -89,6 +89,11 @@ std::string Args::Required(const std::string& name) const {
   return Get(name);
 }
 
+std::vector<std::string> Args::Values(const std::string& name) const {
+  const auto it = values_.find(name);
+  return it == values_.end() ? std::vector<std::string>() : it->second;
+}
+
 std::vector<std::string> Args::All(const std::string& name) const {
   std::vector<std::string> out;
   const auto it = values_.find(name);

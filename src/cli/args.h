@@ -25,7 +25,8 @@ class Args {
   bool Has(const std::string& name) const { return values_.count(name) > 0; }
   std::string Get(const std::string& name, const std::string& fallback = {}) const;
   std::string Required(const std::string& name) const;
-  std::vector<std::string> All(const std::string& name) const;  // every value, comma-split too
+  std::vector<std::string> All(const std::string& name) const;     // every value, comma-split too
+  std::vector<std::string> Values(const std::string& name) const;  // every value, as given
   // Numbers are range-checked here, in one place (issue 22): every double must be finite (nan,
   // inf and 1e999 are refused), and each value given must lie in [lo, hi].
   int GetInt(const std::string& name, int fallback, int lo = INT_MIN, int hi = INT_MAX) const;

@@ -1,10 +1,14 @@
-// acq session repair: the catalog rebuilt from the frames' metadata (acq/session_repair.h).
+// acq session repair: the catalog rebuilt from the frames' metadata (acq/session_repair.h);
+// acq session process: the processing run again (session/reprocess.h).
 #include <cstdio>
 
 #include "acq/session_repair.h"
 #include "cli/args.h"
 #include "cli/commands.h"
 #include "core/error.h"
+#include "core/seconds_since.h"
+#include "session/report.h"
+#include "session/reprocess.h"
 
 namespace acq::cli {
 
@@ -21,6 +25,37 @@ int SessionRepair(const Argv& argv) {
       session.c_str(), r.recorded, r.already_recorded, r.decisions_restored, r.decisions_inferred);
   for (const std::string& s : r.skipped) std::printf("  left alone: %s\n", s.c_str());
   std::printf("run acqd with the session's plan (%s/plan.yaml) to resume\n", session.c_str());
+  return 0;
+}
+
+int SessionProcess(const Argv& argv) {
+  const Args args("acq session process", argv, {"from", "set", "o"}, {});
+  if (args.positionals().size() != 1)
+    throw UserError("acq session process", "give one session directory",
+                    "acq session process SESSION [--from STAGE] [--set KEY=VALUE] [-o NEW]");
+  ReprocessOptions options;
+  options.session = args.positionals()[0];
+  const std::string from = args.Get("from", ToString(options.from));
+  const std::optional<ProcessStage> stage = ParseProcessStage(from);
+  if (!stage)
+    throw UserError("--from " + from, "unknown stage", "use hdr, calibration or reconstruction");
+  options.from = *stage;
+  options.settings = args.Values("set");
+  options.output = args.Get("o");
+  const auto start = SteadyClock::now();
+  const ReprocessResult r = ReprocessSession(options);
+  for (const std::string& change : r.processing_changes)
+    std::printf("processing setting changed: %s\n", change.c_str());
+  SessionReport report;
+  report.plan = r.plan.path;
+  report.backend = std::string("acq session process (") + BackendName(r.plan.backend) + ")";
+  report.session = r.plan.output;
+  report.process = r.process;
+  report.captured = false;
+  report.wall_s = SecondsSince(start);
+  WriteReport(report, r.plan.output);
+  std::printf("%s\nmap: %s/svbrdf.exr; report: %s/report.txt and report.json\n",
+              report.Text().c_str(), r.plan.output.c_str(), r.plan.output.c_str());
   return 0;
 }
 

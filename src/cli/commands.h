@@ -28,5 +28,6 @@ int CalibrateExtrinsics(const Argv& args);
 int CalibrateCorrespondence(const Argv& args);
 int CalibrateSynthesize(const Argv& args);
 int SessionRepair(const Argv& args);
+int SessionProcess(const Argv& args);
 
 }  // namespace acq::cli

@@ -32,11 +32,7 @@
 #include "core/error.h"
 #include "core/seconds_since.h"
 #include "core/stop_request.h"
-#include "daemon/background.h"
-#include "daemon/capture.h"
 #include "daemon/control.h"
-#include "daemon/process.h"
-#include "daemon/report.h"
 #include "daemon/sim_world.h"
 #include "hw/aravis_camera.h"
 #include "hw/protocol_gantry.h"
@@ -46,6 +42,10 @@
 #include "io/float_planes_exr.h"
 #include "io/session_catalog.h"
 #include "io/session_lock.h"
+#include "session/background.h"
+#include "session/capture.h"
+#include "session/process.h"
+#include "session/report.h"
 
 namespace acq {
 namespace {
@@ -345,6 +345,11 @@ int Run(int argc, char** argv) {
     // Without Spectralon captures the light's intensity must be known: the simulated world's
     // (the plan refuses a real instrument without them).
     const double light = world ? world->LightIntensityInCounts(plan.camera.pixel_format) : 0;
+    if (world && catalog.Decision(kLightIntensityDecision).empty()) {
+      char text[40];  // recorded for `acq process`, which has no simulated world to ask
+      std::snprintf(text, sizeof text, "%.17g", light);
+      catalog.RecordDecision(kLightIntensityDecision, text);
+    }
     ThrowIfStopRequested();
     phase("processing: finishing what ran during the capture");
     const auto finishing_start = SteadyClock::now();

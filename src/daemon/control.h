@@ -21,50 +21,14 @@
 #include <string>
 #include <thread>
 
+#include "session/status.h"
+
 namespace acq {
-
-// What acqd is doing, as `acqctl status` shows it.
-enum class DaemonState {
-  kStarting,
-  kRunning,
-  kPaused,
-  kWaiting,
-  kAborted,
-  kStopped,
-  kDone,
-  kFailed
-};
-const char* ToString(DaemonState s);
-std::optional<DaemonState> ParseDaemonState(const std::string& text);
-// A state the daemon does not leave (acqctl watch stops there).
-bool IsFinal(DaemonState s);
-
-struct SessionStatus {
-  DaemonState state = DaemonState::kStarting;
-  std::string step;                   // "sample pose 7 of 20, exposure 2 of 3"
-  double progress = 0;                // 0..1 over the whole session
-  double eta_s = -1;                  // seconds left, -1 unknown
-  double arms_deg[4] = {0, 0, 0, 0};  // light theta/phi, camera theta/phi (measured)
-  std::string prompt;                 // what an operator must do before `acqctl confirm`
-  int prompt_id = 0;                  // the prompt's id while one shows (1, 2, ...), else 0
-  long frames = 0, incomplete_frames = 0, retransmissions = 0;
-  std::string last_error;
-  std::string Json() const;  // one line; NaN and infinities as null
-};
-
-enum class CommandKind { kPause, kResume, kAbort, kConfirm };
-const char* ToString(CommandKind k);
-std::optional<CommandKind> ParseCommandKind(const std::string& text);
-
-struct ControlCommand {
-  CommandKind kind;
-  int prompt_id = 0;  // kConfirm: the prompt it answers
-};
 
 // The default socket: $XDG_RUNTIME_DIR/acqd.sock, else /tmp/acqd-<uid>.sock.
 std::string DefaultControlSocket();
 
-class ControlServer {
+class ControlServer : public StatusChannel {
  public:
   // Binds `path` with mode 0600 (`shared_group`: 0660). Throws UserError when another acqd
   // listens there, or when `path` exists and is not a socket (it is never deleted then); a
@@ -74,9 +38,8 @@ class ControlServer {
   ControlServer(const ControlServer&) = delete;
   ControlServer& operator=(const ControlServer&) = delete;
 
-  void Publish(const SessionStatus& status);
-  // The oldest command not yet taken, if any.
-  std::optional<ControlCommand> TakeCommand();
+  void Publish(const SessionStatus& status) override;
+  std::optional<ControlCommand> TakeCommand() override;
   const std::string& path() const { return path_; }
 
   // At most this many clients at once; one more is answered "error busy" and closed.

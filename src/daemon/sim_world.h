@@ -14,7 +14,7 @@
 
 #include "acq/plan.h"
 #include "brdf/neural_brdf.h"
-#include "daemon/capture.h"
+#include "session/capture.h"
 #include "sim/sim_gige_camera.h"
 #include "sim/usb_gantry_device.h"
 

@@ -316,4 +316,17 @@ SessionCatalog::Repair SessionCatalog::VerifyAndRepair() {
   return r;
 }
 
+void SessionCatalog::CopyTo(const std::string& session_dir) const {
+  const std::string target = session_dir + "/catalog.sqlite";
+  sqlite3_stmt* stmt = nullptr;
+  if (sqlite3_prepare_v2(db_, "VACUUM INTO ?", -1, &stmt, nullptr) != SQLITE_OK)
+    throw UserError(path_, sqlite3_errmsg(db_), "check the session's catalog");
+  sqlite3_bind_text(stmt, 1, target.c_str(), -1, SQLITE_TRANSIENT);
+  const int rc = sqlite3_step(stmt);
+  sqlite3_finalize(stmt);
+  if (rc != SQLITE_DONE)
+    throw UserError(target, std::string("cannot copy the catalog here: ") + sqlite3_errmsg(db_),
+                    "give a new, writable output folder");
+}
+
 }  // namespace acq

@@ -70,6 +70,9 @@ class SessionCatalog {
   Repair VerifyAndRepair();
   // The frame files under frames/ that no row names (names relative to the session).
   std::vector<std::string> UnrecordedFrames() const;
+  // A consistent copy of the catalog as <session_dir>/catalog.sqlite (SQLite's VACUUM INTO: the
+  // WAL's committed rows included), for a session copied to be processed elsewhere (issue 21).
+  void CopyTo(const std::string& session_dir) const;
 
  private:
   void Exec(const char* sql) const;

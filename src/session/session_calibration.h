@@ -17,7 +17,7 @@
 #include "acq/plan.h"
 #include "calib/camera_model.h"
 #include "core/gantry_geometry.h"
-#include "daemon/pose_hdr.h"
+#include "session/pose_hdr.h"
 
 namespace acq {
 
@@ -52,5 +52,10 @@ struct SessionCalibration {
 // Throws UserError (what to recapture) when the intrinsics cannot be solved.
 SessionCalibration CalibrateSession(const Plan& plan, const SessionFrames& session,
                                     double* hdr_seconds);
+
+// The calibration CalibrateSession wrote into `session_dir`/calibration (camera.cameramodel,
+// extrinsics.tsv; poses to 1e-9 rad and 1e-6 mm, as written). The arms and the intrinsics'
+// figures are not in those files and stay zero. UserError naming a file missing or malformed.
+SessionCalibration ReadSessionCalibration(const std::string& session_dir);
 
 }  // namespace acq

@@ -1,4 +1,4 @@
-#include "daemon/pose_hdr.h"
+#include "session/pose_hdr.h"
 
 #include <cstdio>
 #include <filesystem>

@@ -26,14 +26,17 @@
 #include "acq/reconstruction_job.h"
 #include "acq/validation.h"
 #include "calib/camera_model.h"
-#include "daemon/session_calibration.h"
 #include "io/session_catalog.h"
+#include "session/session_calibration.h"
 
 namespace acq {
 
 struct SessionGeometry {
   double light_intensity = 0;  // in HDR units (counts per us at 0 dB) x mm^2; without Spectralon
 };
+// The catalog's decision that records SessionGeometry::light_intensity where the session has
+// no Spectralon captures (acqd knows it from the simulated world), for `acq process`.
+inline constexpr const char* kLightIntensityDecision = "light_intensity";
 
 struct ValidationSummary {
   std::string name;  // the validation direction

@@ -15,8 +15,8 @@
 #include <thread>
 
 #include "acq/plan.h"
-#include "daemon/pose_hdr.h"
-#include "daemon/session_calibration.h"
+#include "session/pose_hdr.h"
+#include "session/session_calibration.h"
 
 namespace acq {
 

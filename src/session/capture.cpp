@@ -1,4 +1,4 @@
-#include "daemon/capture.h"
+#include "session/capture.h"
 
 #include <chrono>
 #include <cstdio>

@@ -1,8 +1,10 @@
-#include "daemon/session_calibration.h"
+#include "session/session_calibration.h"
 
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
+#include <sstream>
 
 #include <opencv2/core.hpp>
 
@@ -14,7 +16,7 @@
 #include "calib/synthetic_board.h"
 #include "core/angles.h"
 #include "core/error.h"
-#include "daemon/pose_hdr.h"
+#include "session/pose_hdr.h"
 
 namespace acq {
 namespace {
@@ -190,6 +192,37 @@ SessionCalibration CalibrateSession(const Plan& plan, const SessionFrames& sessi
   }
   calib::WriteCornersCache(dir + "/calibration/corners.vnl", all);
   WriteExtrinsics(c, dir + "/calibration/extrinsics.tsv");
+  return c;
+}
+
+SessionCalibration ReadSessionCalibration(const std::string& session_dir) {
+  const std::string dir = session_dir + "/calibration";
+  SessionCalibration c;
+  c.camera = calib::CameraModel::Read(dir + "/camera.cameramodel");
+  c.intrinsics_from = dir + "/camera.cameramodel";
+  const std::string path = dir + "/extrinsics.tsv";
+  std::ifstream in(path);
+  if (!in)
+    throw UserError(path, "cannot read the session's extrinsics",
+                    "process from the calibration stage (--from calibration)");
+  int line_number = 0;
+  for (std::string line; std::getline(in, line);) {
+    ++line_number;
+    if (line.empty() || line[0] == '#' || line.rfind("step\t", 0) == 0) continue;
+    std::istringstream fields(line);
+    BoardPoseResult b;
+    int found = 0;
+    Eigen::Vector3d r, t;
+    fields >> b.step >> b.pose >> found >> b.corners >> b.rms_px >> r.x() >> r.y() >> r.z() >>
+        t.x() >> t.y() >> t.z() >> b.angle_from_kinematics_deg >> b.shift_from_kinematics_mm;
+    if (!fields)
+      throw UserError(path + ":" + std::to_string(line_number), "not an extrinsics row",
+                      "process from the calibration stage (--from calibration)");
+    b.found = found != 0;
+    b.cam_from_sample.r = r;
+    b.cam_from_sample.t = t;
+    c.boards.push_back(b);
+  }
   return c;
 }
 

@@ -1,4 +1,4 @@
-#include "daemon/process.h"
+#include "session/process.h"
 
 #include <algorithm>
 #include <chrono>
@@ -17,9 +17,9 @@
 #include "core/angles.h"
 #include "core/error.h"
 #include "core/seconds_since.h"
-#include "daemon/pose_hdr.h"
 #include "hw/frame_file.h"
 #include "io/float_planes_exr.h"
+#include "session/pose_hdr.h"
 
 namespace acq {
 namespace {

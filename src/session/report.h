@@ -11,13 +11,15 @@
 #include <vector>
 
 #include "acq/map_score.h"
-#include "daemon/capture.h"
-#include "daemon/process.h"
+#include "session/capture.h"
+#include "session/process.h"
 
 namespace acq {
 
 struct SessionReport {
   std::string plan, backend, session;
+  // false: the session processed again by `acq session process` (no capture in this run).
+  bool captured = true;
   double wall_s = 0;      // acqd's start to the report
   double planning_s = 0;  // the visiting order
   double scoring_s = 0;   // against the simulated truth (simulation only)

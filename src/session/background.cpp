@@ -1,4 +1,4 @@
-#include "daemon/background.h"
+#include "session/background.h"
 
 #include "core/seconds_since.h"
 

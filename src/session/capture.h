@@ -23,10 +23,10 @@
 #include "acq/move_planner.h"
 #include "acq/plan.h"
 #include "core/seconds_since.h"
-#include "daemon/control.h"
 #include "hw/camera.h"
 #include "hw/gantry.h"
 #include "io/session_catalog.h"
+#include "session/status.h"
 
 namespace acq {
 
@@ -77,7 +77,7 @@ struct CaptureContext {
   Gantry& gantry;
   Camera& camera;
   SessionCatalog& catalog;
-  ControlServer& control;
+  StatusChannel& control;  // acqd: its control socket
   SessionStatus& status;
   std::string gantry_id;  // recorded with every frame
   // Ask the operator to place each item (prompt, `acqctl confirm`); then `place`, where given,

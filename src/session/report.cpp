@@ -1,7 +1,8 @@
-#include "daemon/report.h"
+#include "session/report.h"
 
 #include <cstdio>
 #include <sstream>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -35,6 +36,7 @@ std::string SessionReport::Json() const {
   j["plan"] = plan;
   j["backend"] = backend;
   j["session"] = session;
+  j["captured"] = captured;
   j["time_s"] = {{"wall", wall_s},
                  {"motion", capture.motion_s},
                  {"exposure", capture.exposure_s},
@@ -103,7 +105,7 @@ std::string SessionReport::Text() const {
   char line[256];
   t << "session " << session << " (plan " << plan << ", backend " << backend << ")\n\n";
   t << "where the time went (" << wall_s << " s in all):\n";
-  const std::pair<const char*, double> rows[] = {
+  std::vector<std::pair<const char*, double>> rows = {
       {"motion and settling", capture.motion_s},
       {"exposure", capture.exposure_s},
       {"transfer", capture.transfer_s},
@@ -118,18 +120,25 @@ std::string SessionReport::Text() const {
       {"scoring against the truth", scoring_s},
       {"daemon overhead", OverheadS()},
       {"  of which planning the order", planning_s}};
+  // Processed again (acq session process): the capture's rows and the daemon's are not this
+  // run's; the rest is what the processing did.
+  if (!captured) rows = {rows.begin() + 6, rows.begin() + 11};
   for (const auto& [what, s] : rows) {
     std::snprintf(line, sizeof line, "  %-30s %8.2f s  %s\n", what, s, Share(s, wall_s).c_str());
     t << line;
   }
-  std::snprintf(line, sizeof line,
-                "  (during the capture, on a worker: %d poses merged and the calibration, %.2f s "
-                "of its time)\n",
-                background_poses, background_busy_s);
-  t << line;
-  std::snprintf(line, sizeof line, "\nframes: %d taken, %d already there\n", capture.frames_taken,
-                capture.frames_skipped);
-  t << line;
+  if (captured) {
+    std::snprintf(line, sizeof line,
+                  "  (during the capture, on a worker: %d poses merged and the calibration, %.2f "
+                  "s of its time)\n",
+                  background_poses, background_busy_s);
+    t << line;
+    std::snprintf(line, sizeof line, "\nframes: %d taken, %d already there\n", capture.frames_taken,
+                  capture.frames_skipped);
+    t << line;
+  } else {
+    t << "\nframes: as captured, none taken\n";
+  }
   std::snprintf(line, sizeof line,
                 "map svbrdf.exr: %d x %d pixels of %.3f mm; %ld valid (%.1f%%); not valid: %ld "
                 "with no observation, %ld too few, %ld poorly conditioned\n",
