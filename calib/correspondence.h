@@ -1,5 +1,5 @@
-// Correspondence maps (DESIGN.md, "Alignment"): every reference-view pixel is a point on the
-// sample plane (its ray from the reference camera meets z = 0 of the sample frame); that point
+// Correspondence maps (docs/architecture.md, "Alignment"): every reference-view pixel is a point on
+// the sample plane (its ray from the reference camera meets z = 0 of the sample frame); that point
 // is projected into each view with the view's calibrated camera and cam_from_sample, and gets
 // its own light and view directions from where the light and the camera actually are (both
 // may be near). One map per view, written as float planes (docs/calibration.md):

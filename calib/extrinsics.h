@@ -1,9 +1,9 @@
 // Extrinsics at a gantry pose: cam_from_sample from one image of the board lying in the sample
-// plane, intrinsics locked. The sample frame (DESIGN.md, "Conventions") is defined by the board:
-// origin at the centre of its corner grid, x along the board's x (lay the board with x towards
-// gantry azimuth 0), z the surface normal towards the arms. mrcal's board frame has z pointing
-// into the board (away from a camera that sees its face), so sample_from_board is a half turn
-// about x and a shift to the centre.
+// plane, intrinsics locked. The sample frame (docs/architecture.md, "Conventions") is defined by
+// the board: origin at the centre of its corner grid, x along the board's x (lay the board with x
+// towards gantry azimuth 0), z the surface normal towards the arms. mrcal's board frame has z
+// pointing into the board (away from a camera that sees its face), so sample_from_board is a half
+// turn about x and a shift to the centre.
 #pragma once
 
 #include <optional>

@@ -1,5 +1,5 @@
-// The one place mrcal's C headers enter C++: they lack extern "C" (DESIGN.md, "Conventions").
-// Include this, never <mrcal.h> directly.
+// The one place mrcal's C headers enter C++: they lack extern "C" (docs/architecture.md,
+// "Conventions"). Include this, never <mrcal.h> directly.
 #pragma once
 
 extern "C" {

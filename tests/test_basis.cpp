@@ -176,8 +176,8 @@ std::vector<std::size_t> SeedBins() {
 TEST_CASE("held-out accuracy of the issue's split: seed directions beat random ones",
           "[basis][accuracy]") {
   // Seed's 20 directions, k = 20, eta = 40. An independent numpy implementation gives a median
-  // log-space RMSE of about 0.19 (DESIGN.md); the bar is 0.21. Random sets of 20 give
-  // about 0.4 or worse there, so 0.3 separates them with a wide margin.
+  // log-space RMSE of about 0.19 (tools/reference_basis.py); the bar is 0.21. Random sets
+  // of 20 give about 0.4 or worse there, so 0.3 separates them with a wide margin.
   const double seed = MedianHeldOutError(SeedBins());
   WARN("seed directions: median log-space RMSE " << seed);
   CHECK(seed < 0.21);

@@ -1,6 +1,6 @@
 #!/usr/bin/python3
-"""A straightforward numpy implementation of the basis build (DESIGN.md, "The method in one
-page"), kept as the independent reference that `acq basis build` is checked and benchmarked
+"""A straightforward numpy implementation of the basis build (docs/architecture.md, "The method
+in one page"), kept as the independent reference that `acq basis build` is checked and benchmarked
 against. Run with Debian's python3 (numpy, h5py).
 
   tools/reference_basis.py data/nbrdf/merl [--holdout-every 10 --holdout-offset 5]

@@ -6,7 +6,7 @@ set -euo pipefail
 packages=(
   # build
   build-essential meson ninja-build pkg-config clang-format
-  # libraries (DESIGN.md, "Conventions")
+  # libraries (docs/architecture.md, "Conventions")
   libeigen3-dev libopencv-dev libmrcal-dev mrcal libmrgingham-dev mrgingham
   libusb-1.0-0-dev libaravis-dev aravis-tools aravis-tools-cli iproute2 libopenexr-dev libyaml-cpp-dev
   libsqlite3-dev libhdf5-dev libumockdev-dev umockdev catch2 nlohmann-json3-dev libssl-dev

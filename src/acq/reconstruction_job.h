@@ -1,6 +1,6 @@
 // The reconstruction job: streams an observation source band by band through the per-pixel
 // solver into an SVBRDF map, so memory stays bounded by the band, not the image, and reports
-// what it found (DESIGN.md data flow: "per-pixel reconstruction -> SVBRDF maps").
+// what it found (docs/architecture.md data flow: "per-pixel reconstruction -> SVBRDF maps").
 #pragma once
 
 #include <string>

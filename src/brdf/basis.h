@@ -1,5 +1,5 @@
-// The data-driven BRDF basis (NJR15; DESIGN.md "The method in one page"): over the bins of the
-// MERL grid, a horizon mask, the per-bin reference rho_ref (median of the cos-weighted
+// The data-driven BRDF basis (NJR15; docs/architecture.md "The method in one page"): over the bins
+// of the MERL grid, a horizon mask, the per-bin reference rho_ref (median of the cos-weighted
 // training BRDFs), the mean mu of the log-mapped training set, and the principal components
 // Q stored SCALED BY THEIR SINGULAR VALUES (Q = U S, so Xc^T = Q V^T); the ridge strength
 // eta = 40 of the papers is only meaningful with this scaling.

@@ -1,4 +1,4 @@
-// The NJR15 log mapping of a BRDF value (DESIGN.md, "The method in one page"):
+// The NJR15 log mapping of a BRDF value (docs/architecture.md, "The method in one page"):
 //   y = ln((rho * cosw + eps) / (rho_ref + eps)),  rho = ((rho_ref + eps) e^y - eps) / cosw
 // where cosw is the clamped cos weight of the bin (merl::CosWeight) and rho_ref the per-bin
 // median of the cos-weighted training BRDFs. Negative rho ("no data", or a fit's undershoot)

@@ -1,4 +1,4 @@
-// Ridge reconstruction (DESIGN.md; Yu et al. eq. 3):
+// Ridge reconstruction (docs/architecture.md; Yu et al. eq. 3):
 //   c = (Qs^T Qs + eta I)^-1 Qs^T (xs - mus),  x = Q c + mu,
 // with Qs the basis rows at the n observed directions (first k columns).
 #pragma once

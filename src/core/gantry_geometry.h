@@ -3,7 +3,7 @@
 // near-field effect). Angles in radians; lengths in millimetres.
 //
 // Frames: the sample frame has its origin at the sample centre, z along the normal and x along
-// gantry azimuth 0 (DESIGN.md). An arm at (theta, phi) points along
+// gantry azimuth 0 (docs/architecture.md). An arm at (theta, phi) points along
 // (sin theta cos phi, sin theta sin phi, cos theta) from the sample centre.
 #pragma once
 

@@ -1,4 +1,4 @@
-// The MERL BRDF grid (Matusik et al. 2003), exactly as DESIGN.md states it:
+// The MERL BRDF grid (Matusik et al. 2003), exactly as docs/architecture.md states it:
 // 90 x 90 x 180 bins over (theta_h, theta_d, phi_d); theta_h binned as
 // floor(sqrt(theta_h / (pi/2)) * 90), theta_d as floor(theta_d / (pi/2) * 90), and phi_d folded
 // into [0, pi) by reciprocity and binned as floor(phi_d / pi * 180), every index clamped to the

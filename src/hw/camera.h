@@ -1,6 +1,6 @@
-// The camera as the rest of the product sees it (DESIGN.md: one interface per hardware kind).
-// Implementations: AravisCamera (any GigE Vision or USB3 Vision camera through Aravis 0.8; the
-// simulated camera is one of those) and ReplayCamera (the frames of a recorded session).
+// The camera as the rest of the product sees it (docs/architecture.md: one interface per hardware
+// kind). Implementations: AravisCamera (any GigE Vision or USB3 Vision camera through Aravis 0.8;
+// the simulated camera is one of those) and ReplayCamera (the frames of a recorded session).
 #pragma once
 
 #include <cstdint>

@@ -1,5 +1,5 @@
-// The gantry as the rest of the product sees it (DESIGN.md: one interface per hardware kind).
-// Implementations: ProtocolGantry (our wire protocol over any byte transport: USB bulk
+// The gantry as the rest of the product sees it (docs/architecture.md: one interface per hardware
+// kind). Implementations: ProtocolGantry (our wire protocol over any byte transport: USB bulk
 // endpoints, a socket, an in-process simulator). Angles in radians, in the sample frame.
 #pragma once
 

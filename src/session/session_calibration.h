@@ -1,4 +1,4 @@
-// A session's calibration from its own board captures (issue 8; DESIGN.md, "Data flow":
+// A session's calibration from its own board captures (issue 8; docs/architecture.md, "Data flow":
 // calibration comes before correspondence). The intrinsics from the held boards of the
 // "intrinsics" step, solved with mrcal as `acq calibrate intrinsics` does it (unless the plan
 // gives a calibrated lens); then each pose's cam_from_sample from the board lying on the sample
