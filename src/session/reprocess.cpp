@@ -204,7 +204,7 @@ ReprocessResult ReprocessSession(const ReprocessOptions& options) {
                       "process this session with acqd, which knows its light");
     geometry.light_intensity = std::stod(light);
   }
-  catalog.Event("info", std::string("acq process from ") + ToString(options.from) +
+  catalog.Event("info", std::string("acq session process from ") + ToString(options.from) +
                             (options.output.empty() ? "" : " (a copy of " + options.session + ")"));
   result.process = ProcessSession(result.plan, catalog, geometry, std::move(calibrated));
   return result;
