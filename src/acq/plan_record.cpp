@@ -165,6 +165,47 @@ std::vector<PlanSetting> PlanSettings(const Plan& plan) {
   return s.out;
 }
 
+namespace {
+
+struct SettingsComparison {
+  std::vector<std::string> capture;     // "key: was -> is", settings that change the capture
+  std::vector<std::string> processing;  // the same for processing settings
+};
+
+SettingsComparison Compare(const std::vector<PlanSetting>& now, const std::string& path) {
+  std::map<std::string, PlanSetting> recorded;
+  for (const PlanSetting& s : ReadSettings(path)) recorded[s.key] = s;
+  auto change = [](const std::string& key, const std::string& was, const std::string& is) {
+    return key + ": " + (was.empty() ? "(none)" : was) + " -> " + (is.empty() ? "(none)" : is);
+  };
+  SettingsComparison c;
+  std::set<std::string> seen;
+  for (const PlanSetting& s : now) {
+    seen.insert(s.key);
+    const auto r = recorded.find(s.key);
+    const std::string was = r == recorded.end() ? "" : r->second.value;
+    if (was == s.value) continue;
+    (s.kind == PlanSetting::Kind::kCapture ? c.capture : c.processing)
+        .push_back(change(s.key, was, s.value));
+  }
+  for (const auto& [key, s] : recorded)
+    if (!seen.count(key) && s.kind == PlanSetting::Kind::kCapture)
+      c.capture.push_back(change(key, s.value, ""));
+  return c;
+}
+
+}  // namespace
+
+std::vector<std::string> PlanRecordFiles() {
+  return {"plan.yaml", "plan_files", kSettingsFile, kPlanFolderFile};
+}
+
+std::vector<std::string> CaptureDifferences(const Plan& plan, const std::string& session) {
+  const std::string path = session + "/" + kSettingsFile;
+  if (!fs::exists(path)) return {};
+  return Compare(PlanSettings(plan), path).capture;
+}
+
 PlanCheck RecordOrCheckPlan(const Plan& plan, const std::string& session, SessionCatalog& catalog) {
   const std::string path = session + "/" + kSettingsFile;
   const std::vector<PlanSetting> now = PlanSettings(plan);
@@ -180,36 +221,20 @@ PlanCheck RecordOrCheckPlan(const Plan& plan, const std::string& session, Sessio
     check.first_run = true;
     return check;
   }
-  std::map<std::string, PlanSetting> recorded;
-  for (const PlanSetting& s : ReadSettings(path)) recorded[s.key] = s;
-  std::string capture_differences;
-  int differences = 0;
-  std::set<std::string> seen;
-  auto differ = [&](const std::string& key, const std::string& was, const std::string& is) {
-    if (++differences <= 12)
-      capture_differences += "\n  " + key + ": " + (was.empty() ? "(none)" : was) + " -> " +
-                             (is.empty() ? "(none)" : is);
-  };
-  for (const PlanSetting& s : now) {
-    seen.insert(s.key);
-    const auto r = recorded.find(s.key);
-    const std::string was = r == recorded.end() ? "" : r->second.value;
-    if (was == s.value) continue;
-    if (s.kind == PlanSetting::Kind::kCapture)
-      differ(s.key, was, s.value);
-    else
-      check.processing_changes.push_back(s.key + ": " + was + " -> " + s.value);
-  }
-  for (const auto& [key, s] : recorded)
-    if (!seen.count(key) && s.kind == PlanSetting::Kind::kCapture) differ(key, s.value, "");
-  if (differences > 0)
+  const SettingsComparison c = Compare(now, path);
+  const std::size_t differences = c.capture.size();
+  if (differences > 0) {
+    std::string listed;
+    for (std::size_t i = 0; i < differences && i < 12; ++i) listed += "\n  " + c.capture[i];
     throw UserError(plan.path,
                     "differs from the plan session " + session + " was captured with, in " +
                         std::to_string(differences) + " setting" + (differences > 1 ? "s" : "") +
-                        " that change what is captured:" + capture_differences +
+                        " that change what is captured:" + listed +
                         (differences > 12 ? "\n  ..." : "") + "\n",
                     "resume with the session's own plan (" + session +
                         "/plan.yaml), or give this plan a new output directory");
+  }
+  check.processing_changes = c.processing;
   for (const std::string& change : check.processing_changes)
     catalog.Event("info", "plan changed for processing: " + change);
   if (!check.processing_changes.empty()) WriteSettings(now, path);

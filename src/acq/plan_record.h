@@ -35,6 +35,14 @@ struct PlanCheck {
   std::vector<std::string> processing_changes;  // "reconstruction.k: 20 -> 10"
 };
 
+// The files and folders of a session's record of its plan (plan.yaml, plan_files/, the
+// settings, the plan's folder), for a copy of the session.
+std::vector<std::string> PlanRecordFiles();
+
+// The capture settings of `plan` that differ from those `session` recorded ("key: was -> is");
+// none when the session has no record. Reads and writes nothing else.
+std::vector<std::string> CaptureDifferences(const Plan& plan, const std::string& session);
+
 // Records the plan into `session` at its first run, or checks it against the recorded one.
 // Throws UserError listing every capture setting that differs.
 PlanCheck RecordOrCheckPlan(const Plan& plan, const std::string& session, SessionCatalog& catalog);

@@ -105,26 +105,31 @@ std::string SessionReport::Text() const {
   char line[256];
   t << "session " << session << " (plan " << plan << ", backend " << backend << ")\n\n";
   t << "where the time went (" << wall_s << " s in all):\n";
-  std::vector<std::pair<const char*, double>> rows = {
-      {"motion and settling", capture.motion_s},
-      {"exposure", capture.exposure_s},
-      {"transfer", capture.transfer_s},
-      {"choosing brackets (probes)", capture.bracket_probe_s},
-      {"waiting for the operator", capture.operator_s},
-      {"finishing the overlapped work", background_wait_s},
-      {"HDR merge (what was left)", p.hdr_s},
-      {"calibration (detect, solve)", p.calibration_s},
-      {"correspondence", p.correspondence_s},
-      {"reconstruction", p.reconstruction_s},
-      {"validation renders", p.validation_s},
-      {"scoring against the truth", scoring_s},
-      {"daemon overhead", OverheadS()},
-      {"  of which planning the order", planning_s}};
+  struct Row {
+    const char* what;
+    double s;
+    bool processing;  // a stage `acq session process` runs too
+  };
+  const Row rows[] = {{"motion and settling", capture.motion_s, false},
+                      {"exposure", capture.exposure_s, false},
+                      {"transfer", capture.transfer_s, false},
+                      {"choosing brackets (probes)", capture.bracket_probe_s, false},
+                      {"waiting for the operator", capture.operator_s, false},
+                      {"finishing the overlapped work", background_wait_s, false},
+                      {"HDR merge (what was left)", p.hdr_s, true},
+                      {"calibration (detect, solve)", p.calibration_s, true},
+                      {"correspondence", p.correspondence_s, true},
+                      {"reconstruction", p.reconstruction_s, true},
+                      {"validation renders", p.validation_s, true},
+                      {"scoring against the truth", scoring_s, false},
+                      {"daemon overhead", OverheadS(), false},
+                      {"  of which planning the order", planning_s, false}};
   // Processed again (acq session process): the capture's rows and the daemon's are not this
-  // run's; the rest is what the processing did.
-  if (!captured) rows = {rows.begin() + 6, rows.begin() + 11};
-  for (const auto& [what, s] : rows) {
-    std::snprintf(line, sizeof line, "  %-30s %8.2f s  %s\n", what, s, Share(s, wall_s).c_str());
+  // run's.
+  for (const Row& row : rows) {
+    if (!captured && !row.processing) continue;
+    std::snprintf(line, sizeof line, "  %-30s %8.2f s  %s\n", row.what, row.s,
+                  Share(row.s, wall_s).c_str());
     t << line;
   }
   if (captured) {

@@ -68,25 +68,6 @@ std::string PlanWithSettings(const std::string& plan_path, const std::vector<std
   return std::string(out.c_str()) + "\n";
 }
 
-// The capture settings of `changed` that differ from `recorded`'s: refused, since what was
-// captured cannot change after the fact.
-void RefuseCaptureChanges(const Plan& recorded, const Plan& changed) {
-  std::string differences;
-  const std::vector<PlanSetting> now = PlanSettings(changed);  // files hashed once each
-  for (const PlanSetting& a : PlanSettings(recorded)) {
-    if (a.kind != PlanSetting::Kind::kCapture) continue;
-    bool same = false;
-    for (const PlanSetting& b : now)
-      same |= b.kind == a.kind && b.key == a.key && b.value == a.value;
-    if (!same) differences += (differences.empty() ? "" : "; ") + a.key;
-  }
-  if (!differences.empty())
-    throw UserError("acq session process --set",
-                    "these settings change what was captured: " + differences,
-                    "acq session process changes processing settings only (reconstruction.*, "
-                    "calibration.lensmodel); capture a new session for the others");
-}
-
 void LinkOrCopy(const fs::path& from, const fs::path& to) {
   std::error_code ec;
   fs::create_hard_link(from, to, ec);  // the frames are read-only to processing: share them
@@ -103,8 +84,8 @@ void CopySession(const std::string& from_dir, const SessionCatalog& catalog, con
     if (e.is_regular_file() && IsFrameFileName(e.path().filename().string()))
       LinkOrCopy(e.path(), dst / "frames" / e.path().filename());
   catalog.CopyTo(to);
-  std::vector<std::string> copied = {"plan.yaml",     "plan_files",     "plan_settings.tsv",
-                                     kPlanFolderFile, "directions.tsv", "ground_truth"};
+  std::vector<std::string> copied = PlanRecordFiles();
+  copied.insert(copied.end(), {"directions.tsv", "ground_truth"});
   if (from > ProcessStage::kHdr) copied.push_back("hdr");
   if (from > ProcessStage::kCalibration) copied.push_back("calibration");
   for (const std::string& name : copied)
@@ -176,10 +157,19 @@ ReprocessResult ReprocessSession(const ReprocessOptions& options) {
   const SessionLock source_lock(options.session, "acq session process");
   const std::string target = options.output.empty() ? options.session : options.output;
   const std::string folder = PlanFolder(options.session);
-  const Plan recorded = LoadPlan(options.session + "/plan.yaml", folder);
   const std::string text =
       PlanWithSettings(options.session + "/plan.yaml", options.settings, target);
-  RefuseCaptureChanges(recorded, CheckedPlan(text, folder));
+  // What was captured cannot change after the fact: refused before anything is written.
+  const std::vector<std::string> capture =
+      CaptureDifferences(CheckedPlan(text, folder), options.session);
+  if (!capture.empty()) {
+    std::string listed;
+    for (const std::string& c : capture) listed += (listed.empty() ? "" : "; ") + c;
+    throw UserError("acq session process --set",
+                    "these settings change what was captured: " + listed,
+                    "acq session process changes processing settings only (reconstruction.*, "
+                    "calibration.lensmodel); capture a new session for the others");
+  }
 
   std::optional<SessionLock> target_lock;
   if (!options.output.empty()) {
