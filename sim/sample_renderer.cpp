@@ -4,6 +4,7 @@
 #include <cmath>
 #include <random>
 
+#include "core/colour.h"
 #include "core/error.h"
 
 namespace acq::sim {
@@ -21,13 +22,9 @@ std::array<double, 3> Brdf(const RenderScene& scene, const Eigen::Vector2d& poin
   };
   switch (scene.kind) {
     case RenderScene::Kind::kCard: {
-      if (std::abs(point.x()) >= half || std::abs(point.y()) >= half) break;
-      const SyntheticSvbrdf& c = scene.card;
-      const int x = std::min(c.width - 1, int((point.x() / scene.sample_size_mm + 0.5) * c.width));
-      const int y =
-          std::min(c.height - 1, int((point.y() / scene.sample_size_mm + 0.5) * c.height));
-      return scene.materials.at(c.label[std::size_t(y) * std::size_t(c.width) + std::size_t(x)])
-          .Value(d);
+      const int label = scene.card.LabelAt(point);
+      if (label < 0) break;
+      return scene.materials.at(std::size_t(label)).Value(d);
     }
     case RenderScene::Kind::kChessboard: {
       const double s = scene.board.spacing_mm;
@@ -52,7 +49,9 @@ std::vector<float> RadianceImage::Channel(int channel) const {
   std::vector<float> out(std::size_t(width) * std::size_t(height));
   for (std::size_t i = 0; i < out.size(); ++i) {
     const float* p = &rgb[3 * i];
-    out[i] = channel < 0 ? 0.2126f * p[0] + 0.7152f * p[1] + 0.0722f * p[2] : p[channel];
+    out[i] = channel < 0 ? float(kRec709Luminance[0] * p[0] + kRec709Luminance[1] * p[1] +
+                                 kRec709Luminance[2] * p[2])
+                         : p[channel];
   }
   return out;
 }

@@ -24,7 +24,8 @@ namespace acq::sim {
 
 struct RenderScene {
   enum class Kind { kCard, kChessboard, kSpectralon } kind = Kind::kCard;
-  double sample_size_mm = 100;  // the square sample (card, Spectralon board) centred at the origin
+  double sample_size_mm = 100;  // the square Spectralon board centred at the origin (the card:
+                                // its own SyntheticSvbrdf::sample_size_mm)
   SyntheticSvbrdf card;         // kCard: material labels over the sample
   std::vector<GroundTruth> materials;
   std::vector<std::string> material_names;  // for the ground truth written beside a session

@@ -11,7 +11,6 @@
 #include <stdexcept>
 
 #include "calib/synthetic_board.h"
-#include "io/float_planes_exr.h"
 
 namespace acq::sim {
 namespace {
@@ -95,26 +94,6 @@ SimView ViewFromArms(const ArmAngles& arms, double camera_distance_mm, double li
   v.light.position_mm = far.in * light_distance_mm;
   v.light.intensity = light_intensity;
   return v;
-}
-
-void WriteGroundTruth(const std::string& dir, const RenderScene& scene,
-                      const calib::CameraModel& camera) {
-  std::filesystem::create_directories(dir);
-  FloatPlanes labels;
-  labels.width = scene.card.width;
-  labels.height = scene.card.height;
-  labels.planes["material"].assign(scene.card.label.begin(), scene.card.label.end());
-  labels.attributes["acqFormat"] = "acq-ground-truth-1";
-  labels.attributes["sampleSizeMm"] = std::to_string(scene.sample_size_mm);
-  WriteFloatPlanesExr(dir + "/ground_truth_labels.exr", labels);
-  std::ofstream names(dir + "/materials.tsv");
-  names << "# index\tname\n";
-  for (std::size_t i = 0; i < scene.materials.size(); ++i)
-    names << i << "\t"
-          << (i < scene.material_names.size() ? scene.material_names[i]
-                                              : "material" + std::to_string(i))
-          << "\n";
-  camera.Write(dir + "/camera.cameramodel");
 }
 
 SimGigECamera::SimGigECamera(RenderScene scene, calib::CameraModel model,

@@ -33,12 +33,6 @@ struct SimView {
 SimView ViewFromArms(const ArmAngles& arms, double camera_distance_mm, double light_distance_mm,
                      double light_intensity);
 
-// Writes what a test needs to score a reconstruction of `scene`, beside the session: the
-// material label per card pixel (EXR plane "material", attribute sampleSizeMm), the materials'
-// names (materials.tsv: index, name) and the camera model (camera.cameramodel).
-void WriteGroundTruth(const std::string& dir, const RenderScene& scene,
-                      const calib::CameraModel& camera);
-
 struct SimCameraOptions {
   std::string address = "127.0.0.2";
   std::string serial = "ACQSIM01";

@@ -11,6 +11,14 @@ Eigen::Vector2d SyntheticSvbrdf::PointOf(int pixel) const {
   return {((x + 0.5) / width - 0.5) * sample_size_mm, ((y + 0.5) / height - 0.5) * sample_size_mm};
 }
 
+int SyntheticSvbrdf::LabelAt(const Eigen::Vector2d& p) const {
+  if (!(sample_size_mm > 0) || !std::isfinite(p.x()) || !std::isfinite(p.y())) return -1;
+  const double x = std::floor((p.x() / sample_size_mm + 0.5) * width);
+  const double y = std::floor((p.y() / sample_size_mm + 0.5) * height);
+  if (x < 0 || y < 0 || x >= width || y >= height) return -1;
+  return label[std::size_t(y) * std::size_t(width) + std::size_t(x)];
+}
+
 SyntheticSvbrdf MakeCardLayout(int width, int height, double sample_size_mm, int materials,
                                std::uint64_t seed) {
   SyntheticSvbrdf s;

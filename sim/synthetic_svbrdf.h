@@ -23,6 +23,9 @@ struct SyntheticSvbrdf {
   double sample_size_mm = 0;        // side of the square sample the reference view covers
   std::vector<std::uint8_t> label;  // material index per pixel, row-major
   Eigen::Vector2d PointOf(int pixel) const;
+  // The material under a sample-plane point (mm, the card centred at the origin): the label of
+  // the cell it falls in, -1 off the card. The one rule the renderer and the scoring share.
+  int LabelAt(const Eigen::Vector2d& point_mm) const;
 };
 
 // A printed card: a background material, two rectangles with sharp edges, and strokes of "text"

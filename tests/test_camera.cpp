@@ -19,6 +19,7 @@
 #include "hw/protocol_gantry.h"
 #include "hw/replay_camera.h"
 #include "io/float_planes_exr.h"
+#include "sim/ground_truth.h"
 #include "sim/sim_gige_camera.h"
 #include "sim_gantry_link.h"
 #include "test_helpers.h"

@@ -9,6 +9,8 @@
 //   processing; its latency is printed.
 // - The recorded session is replayed through acqd (backend replay): the same frames, the same map.
 // - A session with the lens calibrated before (calibration.camera_model, no held boards).
+// - The sequencer in-process (the session library's RunSession on the replay devices): a lost
+//   camera, an operator's abort, each resumed.
 // - acqd is killed with SIGKILL at three points and resumed: every frame exactly once, each
 //   whole, and the same outputs as the uninterrupted run up to the sensor's noise.
 #include <catch2/catch.hpp>
@@ -30,9 +32,12 @@
 #include <sstream>
 #include <thread>
 
+#include "acq/plan.h"
+#include "core/error.h"
 #include "hw/frame_file.h"
 #include "io/session_catalog.h"
 #include "io/svbrdf_map.h"
+#include "session/run.h"
 #include "test_helpers.h"
 
 using namespace acq;
@@ -83,6 +88,14 @@ std::string WritePlan(const std::string& dir, const std::string& basis, int intr
   return plan;
 }
 
+// The uninterrupted session's folder, shared by the test cases of this run: the first test case
+// records it (its status asked all through); a later one records it itself when run alone.
+const std::string& WholeDir() {
+  static const test::TempDir dir;
+  static const std::string path = dir / "whole";
+  return path;
+}
+
 // The basis every test case of this file uses, built once per run.
 const std::string& SharedBasis() {
   static const test::TempDir dir;
@@ -113,13 +126,13 @@ int Wait(pid_t pid) {
 
 // The board captures: one frame a pose, exposed for at the pose (from noisy probe frames, so
 // the exposure differs a little between runs).
-bool BoardStep(const std::string& step) {
-  return step == "intrinsics" || step.rfind("board", 0) == 0;
+bool BoardStep(Step step) {
+  return ItemOf(step) == Item::kBoard;
 }
 
 // Mean count of each recorded frame of the fixed-bracket steps, by (step, pose, exposure).
-std::map<std::tuple<std::string, int, double>, double> FrameMeans(const std::string& session) {
-  std::map<std::tuple<std::string, int, double>, double> out;
+std::map<std::tuple<Step, int, double>, double> FrameMeans(const std::string& session) {
+  std::map<std::tuple<Step, int, double>, double> out;
   SessionCatalog catalog(session);
   for (const CatalogFrame& f : catalog.Frames()) {
     if (BoardStep(f.step)) continue;
@@ -269,8 +282,9 @@ TEST_CASE("session: a whole simulated session, scored; kill -9 and resume give t
     CHECK(dry.find("estimated capture time") != std::string::npos);
   }
 
-  // The reference: an uninterrupted run, its status asked all the way through.
-  const std::string whole = WritePlan(base + "/whole", basis);
+  // The reference: an uninterrupted run, its status asked all the way through (recorded where
+  // the in-process test cases below find it).
+  const std::string whole = WritePlan(WholeDir(), basis);
   const auto t0 = std::chrono::steady_clock::now();
   StatusPoller poller(socket);
   REQUIRE(Wait(StartAcqd(whole, socket)) == 0);
@@ -282,7 +296,7 @@ TEST_CASE("session: a whole simulated session, scored; kill -9 and resume give t
   CHECK(poller.FailuresBefore(exited - std::chrono::milliseconds(500)) == 0);
   const double whole_s =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  const auto reference = FrameMeans(base + "/whole/session");
+  const auto reference = FrameMeans(WholeDir() + "/session");
   REQUIRE(reference.size() == 92);  // (20 + 3 poses) x 2 exposures x (sample, Spectralon)
   // 8 held boards and 23 on the sample plane, one frame each.
   const int frames = 92 + 8 + 23;
@@ -305,7 +319,7 @@ TEST_CASE("session: a whole simulated session, scored; kill -9 and resume give t
   // reconstruction reads each view at sub-pixel positions and the card's inks change from one
   // pixel to the next: measured 0.05 px median, 0.3 px worst (12 boards of the main run); half a
   // pixel at the median or 1.5 px anywhere would smear the inks' edges into each other.
-  const std::string report = ReadText(base + "/whole/session/report.json");
+  const std::string report = ReadText(WholeDir() + "/session/report.json");
   const double misaligned = JsonNumber(report, "alignment_median_px");
   const double misaligned_worst = JsonNumber(report, "alignment_max_px");
   WARN("calibrated against true geometry: misalignment median " << misaligned << " px, worst "
@@ -355,7 +369,7 @@ TEST_CASE("session: a whole simulated session, scored; kill -9 and resume give t
     std::string text = ReadText(whole);
     text.replace(text.find("backend: sim"), 12, "backend: replay");
     text.replace(text.find("output: session"), 15,
-                 "output: session\nreplay: " + base + "/whole/session");
+                 "output: session\nreplay: " + WholeDir() + "/session");
     fs::create_directories(base + "/replayed");
     std::ofstream(replay_plan) << text.substr(0, text.find("sim:"));
   }
@@ -363,7 +377,7 @@ TEST_CASE("session: a whole simulated session, scored; kill -9 and resume give t
   {
     const auto replayed_means = FrameMeans(base + "/replayed/session");
     CHECK(replayed_means == reference);
-    const SvbrdfMap recorded = ReadSvbrdfMap(base + "/whole/session/svbrdf.exr");
+    const SvbrdfMap recorded = ReadSvbrdfMap(WholeDir() + "/session/svbrdf.exr");
     const SvbrdfMap replayed = ReadSvbrdfMap(base + "/replayed/session/svbrdf.exr");
     REQUIRE(replayed.planes.size() == recorded.planes.size());
     for (std::size_t c = 0; c < recorded.planes.size(); ++c)
@@ -377,7 +391,7 @@ TEST_CASE("session: a whole simulated session, scored; kill -9 and resume give t
   // is deterministic, and the copy's frames are the session's own, linked). With k = 10 from the
   // reconstruction on: a new map and report in the new folder; the session itself untouched.
   {
-    const std::string session = base + "/whole/session";
+    const std::string session = WholeDir() + "/session";
     const std::string map_before = ReadText(session + "/svbrdf.exr");
     const std::string acq = std::string(ACQ_PATH) + " session process " + session;
     const std::string same = Output(acq + " -o " + base + "/processed 2>&1");
@@ -411,7 +425,7 @@ TEST_CASE("session: a whole simulated session, scored; kill -9 and resume give t
   // A lens calibrated before: `calibration.camera_model` names the uninterrupted run's model, so
   // no board is held up; the boards on the sample plane still give every view its pose.
   {
-    const std::string model = base + "/whole/session/calibration/camera.cameramodel";
+    const std::string model = WholeDir() + "/session/calibration/camera.cameramodel";
     std::string text = ReadText(WritePlan(base + "/given", basis));
     const std::string captures = "intrinsics_captures: 8";
     text.replace(text.find(captures), captures.size(), "camera_model: " + model);
@@ -419,7 +433,7 @@ TEST_CASE("session: a whole simulated session, scored; kill -9 and resume give t
     REQUIRE(Wait(StartAcqd(base + "/given/plan.yaml", socket)) == 0);
     SessionCatalog catalog(base + "/given/session");
     CHECK(catalog.VerifyAndRepair().verified == 92 + 23);
-    CHECK_FALSE(catalog.StepDone("intrinsics"));
+    CHECK_FALSE(catalog.StepDone(Step::kIntrinsics));
     const std::string given = ReadText(base + "/given/session/report.json");
     CHECK(given.find("\"intrinsics_from\": \"" + model + "\"") != std::string::npos);
     CHECK(JsonNumber(given, "board_poses_found") == 23);
@@ -459,14 +473,12 @@ TEST_CASE("session: a whole simulated session, scored; kill -9 and resume give t
   CHECK(repair.bad.empty());
   CHECK(repair.orphans.empty());
   CHECK(repair.verified == frames);
-  for (const char* step : {"intrinsics", "board", "board_validation", "sample", "validation",
-                           "spectralon", "spectralon_validation"})
-    CHECK(catalog.StepDone(step));
+  for (const Step step : AllSteps()) CHECK(catalog.StepDone(step));
   std::size_t files = 0;
   for (const auto& e : fs::directory_iterator(base + "/resumed/session/frames"))
     files += e.is_regular_file();
   CHECK(files == frames);  // every (pose, exposure) once: the catalog's UNIQUE key says so too
-  std::map<std::pair<std::string, int>, int> board_frames;
+  std::map<std::pair<Step, int>, int> board_frames;
   for (const CatalogFrame& f : catalog.Frames())
     if (BoardStep(f.step)) ++board_frames[{f.step, f.pose}];
   CHECK(board_frames.size() == 8 + 23);
@@ -514,7 +526,7 @@ TEST_CASE("session: a whole simulated session, scored; kill -9 and resume give t
       }
     return s;
   };
-  const MapSummary a = summarise(base + "/whole/session/svbrdf.exr");
+  const MapSummary a = summarise(WholeDir() + "/session/svbrdf.exr");
   const MapSummary b = summarise(base + "/resumed/session/svbrdf.exr");
   const std::string resumed_report = ReadText(base + "/resumed/session/report.json");
   const double median_resumed = JsonNumber(resumed_report, "median_log_rmse");
@@ -575,9 +587,9 @@ TEST_CASE("session: operator prompts answered with acqctl confirm; abort at a pr
   CHECK(Wait(pid) == 1);  // aborted: an error exit, the session left to resume
   SessionCatalog catalog(base + "/run/session");
   CHECK(catalog.VerifyAndRepair().verified == 3 + 23);
-  for (const char* step : {"intrinsics", "board", "board_validation"})
+  for (const Step step : {Step::kIntrinsics, Step::kBoard, Step::kBoardValidation})
     CHECK(catalog.StepDone(step));
-  CHECK_FALSE(catalog.StepDone("sample"));
+  CHECK_FALSE(catalog.StepDone(Step::kSample));
   // The abort is in the session's record, as every failure is.
   const auto events = catalog.Events();
   REQUIRE_FALSE(events.empty());
@@ -673,4 +685,127 @@ TEST_CASE("session: owned, remembers its plan, deletes only its own files, stops
   CHECK(repair.bad.empty());
   CHECK(FrameFiles(session) == total);
   CHECK(fs::exists(session + "/svbrdf.exr"));
+}
+
+namespace {
+
+// A camera lost after `grabs` frames (unplugged, powered off): every later grab fails as the
+// real driver's does once the device is gone.
+class LostCamera : public Camera {
+ public:
+  LostCamera(std::unique_ptr<Camera> inner, int grabs) : inner_(std::move(inner)), left_(grabs) {}
+  void Apply(const CameraSettings& s) override { inner_->Apply(s); }
+  Frame Grab() override {
+    if (left_-- <= 0)
+      throw UserError("camera", "the camera stopped answering", "check its power and cable");
+    return inner_->Grab();
+  }
+  StreamStatistics Statistics() const override { return inner_->Statistics(); }
+  std::string Describe() const override { return inner_->Describe(); }
+
+ private:
+  std::unique_ptr<Camera> inner_;
+  int left_;
+};
+
+// acqd's control socket in-process: what the sequencer published, and an abort once it has
+// published `abort_after` times (0: never).
+class ScriptedChannel : public StatusChannel {
+ public:
+  explicit ScriptedChannel(int abort_after = 0) : abort_after_(abort_after) {}
+  void Publish(const SessionStatus& s) override {
+    ++published;
+    last = s;
+  }
+  std::optional<ControlCommand> TakeCommand() override {
+    if (abort_after_ == 0 || published < abort_after_ || aborted_) return std::nullopt;
+    aborted_ = true;
+    return ControlCommand{CommandKind::kAbort};
+  }
+  int published = 0;
+  SessionStatus last;
+
+ private:
+  int abort_after_;
+  bool aborted_ = false;
+};
+
+// A replay plan of the shared recorded session into `dir`/session.
+Plan ReplayPlan(const std::string& dir) {
+  std::string text = ReadText(WholeDir() + "/plan.yaml");
+  text.replace(text.find("backend: sim"), 12, "backend: replay");
+  text.replace(text.find("output: session"), 15,
+               "output: session\nreplay: " + WholeDir() + "/session");
+  fs::create_directories(dir);
+  std::ofstream(dir + "/plan.yaml") << text.substr(0, text.find("sim:"));
+  return LoadPlan(dir + "/plan.yaml");
+}
+
+}  // namespace
+
+// The sequencer in this process (issue 21): the session library's RunSession with the replay
+// gantry and camera (the shared recorded session's frames and arm angles), a camera lost mid-way,
+// an operator's abort, and the resume that finishes the session with the map the recording gave.
+TEST_CASE("session in-process: a lost camera and an abort, each resumed, give the recorded map",
+          "[integration]") {
+  if (!fs::exists(WholeDir() + "/session/report.json")) {
+    const std::string socket = "/tmp/acqd-test-" + std::to_string(getpid()) + ".sock";
+    REQUIRE(Wait(StartAcqd(WritePlan(WholeDir(), SharedBasis()), socket)) == 0);
+  }
+  const test::TempDir tmp;
+  const Plan plan = ReplayPlan(tmp / "replay");
+  const int frames = int(SessionCatalog(WholeDir() + "/session").Frames().size());
+  REQUIRE(frames == 92 + 8 + 23);
+  auto replay_with_camera_lost_after = [&](int grabs) {
+    SessionHooks hooks;
+    hooks.open = [&plan, grabs](const std::function<void(const std::string&)>&) {
+      SessionDevices d = OpenReplayDevices(plan);
+      if (grabs >= 0) d.camera = std::make_unique<LostCamera>(std::move(d.camera), grabs);
+      return d;
+    };
+    return hooks;
+  };
+
+  // Lost after 40 frames: the session fails with the camera's error, published and recorded;
+  // the 40 frames stay, each whole and recorded once.
+  {
+    ScriptedChannel channel;
+    SessionStatus status;
+    CHECK_THROWS_WITH(RunSession(plan, channel, status, replay_with_camera_lost_after(40)),
+                      Catch::Contains("the camera stopped answering"));
+    CHECK(channel.last.state == DaemonState::kFailed);
+    CHECK(channel.last.last_error.find("stopped answering") != std::string::npos);
+    SessionCatalog catalog(plan.output);
+    CHECK(catalog.VerifyAndRepair().verified == 40);
+    CHECK(catalog.Events().back().first == "error");
+  }
+  // Resumed, then aborted by the operator at a safe point: the state says so, the session is
+  // left resumable, and what was taken before stays.
+  {
+    ScriptedChannel channel(/*abort_after=*/60);
+    SessionStatus status;
+    CHECK_THROWS_WITH(RunSession(plan, channel, status, replay_with_camera_lost_after(-1)),
+                      Catch::Contains("aborted by the operator"));
+    CHECK(channel.last.state == DaemonState::kAborted);
+    SessionCatalog catalog(plan.output);
+    const int taken = catalog.VerifyAndRepair().verified;
+    CHECK(taken > 40);
+    CHECK(taken < frames);
+  }
+  // Resumed to the end: every frame once, the frames the recording holds, and the recording's
+  // map to the last bit (the replay serves the same frames; the processing is deterministic).
+  ScriptedChannel channel;
+  SessionStatus status;
+  const SessionReport report = RunSession(plan, channel, status, replay_with_camera_lost_after(-1));
+  CHECK(channel.last.state == DaemonState::kDone);
+  CHECK(report.capture.frames_skipped > 40);
+  CHECK(report.capture.frames_taken + report.capture.frames_skipped == frames);
+  SessionCatalog catalog(plan.output);
+  CHECK(catalog.VerifyAndRepair().verified == frames);
+  CHECK(FrameMeans(plan.output) == FrameMeans(WholeDir() + "/session"));
+  const SvbrdfMap recorded = ReadSvbrdfMap(WholeDir() + "/session/svbrdf.exr");
+  const SvbrdfMap replayed = ReadSvbrdfMap(plan.output + "/svbrdf.exr");
+  REQUIRE(replayed.planes.size() == recorded.planes.size());
+  for (std::size_t c = 0; c < recorded.planes.size(); ++c)
+    CHECK(replayed.planes[c] == recorded.planes[c]);
 }

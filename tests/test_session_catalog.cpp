@@ -28,19 +28,19 @@ std::string FrameBytes(int i) {
 }
 
 std::string FramePath(int i) {
-  return FrameFileName("sample", i, 1000);
+  return FrameFileName(Step::kSample, i, 1000);
 }
 
 // What the sequencer does for each frame, skipping what the catalog says is done.
 void CaptureFrames(const std::string& dir, int count) {
   SessionCatalog catalog(dir);
   for (int i = 0; i < count; ++i) {
-    if (catalog.HasFrame("sample", i, 1000)) continue;
+    if (catalog.HasFrame(Step::kSample, i, 1000)) continue;
     const std::string bytes = FrameBytes(i);
     WriteFileAtomically((fs::path(dir) / FramePath(i)).string(), bytes.data(), bytes.size());
-    catalog.RecordFrame({"sample", i, 1000, FramePath(i), "", 0});
+    catalog.RecordFrame({Step::kSample, i, 1000, FramePath(i), "", 0});
   }
-  catalog.MarkStepDone("sample");
+  catalog.MarkStepDone(Step::kSample);
 }
 
 }  // namespace
@@ -66,29 +66,29 @@ TEST_CASE("catalog: frames recorded once, steps, damaged and unrecorded files re
     SessionCatalog catalog(dir);
     const std::string bytes = FrameBytes(0);
     WriteFileAtomically(dir + "/" + FramePath(0), bytes.data(), bytes.size());
-    catalog.RecordFrame({"sample", 0, 1000, FramePath(0), "", 0});
-    CHECK(catalog.HasFrame("sample", 0, 1000));
-    CHECK_FALSE(catalog.HasFrame("sample", 0, 8000));
-    CHECK_THROWS_WITH(catalog.RecordFrame({"sample", 0, 1000, FramePath(0), "", 0}),
+    catalog.RecordFrame({Step::kSample, 0, 1000, FramePath(0), "", 0});
+    CHECK(catalog.HasFrame(Step::kSample, 0, 1000));
+    CHECK_FALSE(catalog.HasFrame(Step::kSample, 0, 8000));
+    CHECK_THROWS_WITH(catalog.RecordFrame({Step::kSample, 0, 1000, FramePath(0), "", 0}),
                       Catch::Contains("already recorded"));
-    CHECK_FALSE(catalog.StepDone("sample"));
-    catalog.MarkStepDone("sample");
-    CHECK(catalog.StepDone("sample"));
+    CHECK_FALSE(catalog.StepDone(Step::kSample));
+    catalog.MarkStepDone(Step::kSample);
+    CHECK(catalog.StepDone(Step::kSample));
     const std::string other = FrameBytes(1);
     WriteFileAtomically(dir + "/" + FramePath(1), other.data(), other.size());
-    catalog.RecordFrame({"sample", 1, 1000, FramePath(1), "", 0});
+    catalog.RecordFrame({Step::kSample, 1, 1000, FramePath(1), "", 0});
     // One pose's frames, by query: another exposure of pose 0, and another step's pose 0.
     WriteFileAtomically(dir + "/frames/long.raw", bytes.data(), bytes.size());
-    catalog.RecordFrame({"sample", 0, 8000, "frames/long.raw", "", 0});
+    catalog.RecordFrame({Step::kSample, 0, 8000, "frames/long.raw", "", 0});
     WriteFileAtomically(dir + "/frames/white.raw", bytes.data(), bytes.size());
-    catalog.RecordFrame({"spectralon", 0, 1000, "frames/white.raw", "", 0});
-    const std::vector<CatalogFrame> pose0 = catalog.FramesOf("sample", 0);
+    catalog.RecordFrame({Step::kSpectralon, 0, 1000, "frames/white.raw", "", 0});
+    const std::vector<CatalogFrame> pose0 = catalog.FramesOf(Step::kSample, 0);
     REQUIRE(pose0.size() == 2);
     CHECK(pose0[0].exposure_us == 1000);  // in recording order
     CHECK(pose0[1].path == "frames/long.raw");
-    CHECK(catalog.FramesOf("sample", 1).size() == 1);
-    CHECK(catalog.FramesOf("spectralon", 0).size() == 1);
-    CHECK(catalog.FramesOf("sample", 2).empty());
+    CHECK(catalog.FramesOf(Step::kSample, 1).size() == 1);
+    CHECK(catalog.FramesOf(Step::kSpectralon, 0).size() == 1);
+    CHECK(catalog.FramesOf(Step::kSample, 2).empty());
   }
   // Damage one recorded frame and leave an unrecorded one (a crash after the rename).
   {
@@ -107,7 +107,7 @@ TEST_CASE("catalog: frames recorded once, steps, damaged and unrecorded files re
   REQUIRE(r.orphans.size() == 1);
   CHECK(r.orphans[0] == fs::path(FramePath(2)).filename().string());
   CHECK(reopened.Frames().size() == 3);
-  CHECK(reopened.StepDone("sample"));
+  CHECK(reopened.StepDone(Step::kSample));
 }
 
 // Issue 22: the catalog deletes only what acqd writes, and never "repairs" a catalog that lost
@@ -121,7 +121,7 @@ TEST_CASE("catalog: files acqd did not write are left; a catalog that lost rows 
     for (int i = 0; i < 3; ++i) {
       const std::string bytes = FrameBytes(i);
       WriteFileAtomically(dir + "/" + FramePath(i), bytes.data(), bytes.size());
-      catalog.RecordFrame({"sample", i, 1000, FramePath(i), "", 0});
+      catalog.RecordFrame({Step::kSample, i, 1000, FramePath(i), "", 0});
     }
   }
   std::ofstream(dir + "/frames/notes.txt") << "mine";
@@ -191,6 +191,6 @@ TEST_CASE("catalog: kill -9 at any instant, then resume: every frame once, none 
     std::size_t files = 0;
     for (const auto& e : fs::directory_iterator(dir + "/frames")) files += e.is_regular_file();
     CHECK(files == std::size_t(frames));  // no stray partial or duplicate file
-    CHECK(catalog.StepDone("sample"));
+    CHECK(catalog.StepDone(Step::kSample));
   }
 }

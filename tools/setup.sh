@@ -10,6 +10,7 @@ packages=(
   libeigen3-dev libopencv-dev libmrcal-dev mrcal libmrgingham-dev mrgingham
   libusb-1.0-0-dev libaravis-dev aravis-tools aravis-tools-cli iproute2 libopenexr-dev libyaml-cpp-dev
   libsqlite3-dev libhdf5-dev libumockdev-dev umockdev catch2 nlohmann-json3-dev libssl-dev
+  libcli11-dev
   # reference implementations, benchmarks and charts (Debian's /usr/bin/python3)
   python3 python3-numpy python3-h5py python3-matplotlib python3-mrcal python3-opencv
   # peak-memory measurement in benchmarks

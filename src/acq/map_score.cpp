@@ -49,21 +49,4 @@ MapScore ScoreMap(const SvbrdfMap& map, const BasisView& basis, const std::vecto
   return score;
 }
 
-MerlBrdf LuminanceOf(const MerlBrdf& brdf) {
-  constexpr double kRec709[3] = {0.2126, 0.7152, 0.0722};
-  MerlBrdf out;
-  for (std::size_t bin = 0; bin < merl::kBins; ++bin) {
-    double y = 0;
-    bool known = true;
-    for (int c = 0; c < 3; ++c) {
-      const double v = brdf.Value(c, bin);
-      known = known && v >= 0;
-      y += kRec709[c] * v;
-    }
-    if (known)  // unknown bins stay at the table's "no data" (-1)
-      for (int c = 0; c < 3; ++c) out.SetValue(c, bin, y);
-  }
-  return out;
-}
-
 }  // namespace acq

@@ -25,8 +25,4 @@ struct MapScore {
 MapScore ScoreMap(const SvbrdfMap& map, const BasisView& basis, const std::vector<int>& label,
                   const std::vector<MerlBrdf>& truth);
 
-// What a mono camera records of a colour BRDF: Rec. 709 luminance in all three channels (the
-// simulated camera's luminance channel, sim/sample_renderer.h).
-MerlBrdf LuminanceOf(const MerlBrdf& brdf);
-
 }  // namespace acq

@@ -431,8 +431,8 @@ Plan LoadPlan(const std::string& path, const std::string& relative_to) {
                     "for the reconstruction",
                     "set spectralon: true");
 
-  const Section sim =
-      top.Child("sim", {"materials", "seed", "light_intensity", "time_scale", "operator"});
+  const Section sim = top.Child("sim", {"materials", "seed", "light_intensity", "time_scale",
+                                        "operator", "image_size", "camera_model"});
   if (plan.backend == Backend::kSim) {
     const YAML::Node materials = root["sim"] ? root["sim"]["materials"] : YAML::Node();
     if (!materials || !materials.IsSequence() || materials.size() == 0)
@@ -458,6 +458,24 @@ Plan LoadPlan(const std::string& path, const std::string& relative_to) {
                     "simulated seconds per wall second: 1 is real time");
   if (!(plan.sim_light_intensity > 0))
     throw UserError(sim.Where("light_intensity"), "sim.light_intensity must be positive");
+  const std::vector<int> image_size = sim.Counts("image_size", 16, 16384);
+  if (!image_size.empty()) {
+    if (image_size.size() != 2)
+      throw UserError(sim.Where("image_size"), "sim.image_size must be two counts",
+                      "the simulated camera's width and height in pixels, like [2048, 2048]");
+    plan.sim_image_width = image_size[0];
+    plan.sim_image_height = image_size[1];
+  }
+  if (sim.Has("camera_model")) {
+    if (sim.Has("image_size"))
+      throw UserError(sim.Where("camera_model"),
+                      "sim.camera_model and sim.image_size exclude "
+                      "each other",
+                      "a camera model has its own image size");
+    plan.sim_camera_model = Resolve(base, sim.Text("camera_model"));
+    RequireFile(sim, "camera_model", plan.sim_camera_model,
+                "give an mrcal .cameramodel for the simulated camera's lens");
+  }
 
   const Section recon = top.Child("reconstruction", {"basis", "k", "eta", "lookup", "row_tile"});
   plan.basis_file = Resolve(base, recon.Required("basis"));

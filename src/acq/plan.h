@@ -66,6 +66,10 @@ struct Plan {
   // The simulated world waits for the operator's `acqctl confirm` at every placement, as the
   // instrument does, instead of placing items itself (the prompt path in simulation).
   bool sim_operator = false;
+  // The simulated camera: a pinhole of this size framing the card, or the lens of an mrcal
+  // .cameramodel (its size too).
+  int sim_image_width = 320, sim_image_height = 320;
+  std::string sim_camera_model;
 
   std::string basis_file;
   std::string basis_where, components_where;  // file:line:column of the keys, for later checks

@@ -38,6 +38,11 @@ bool ReadIdentity(const std::string& session, const std::string& relative, Found
     *why = "has no step or pose attribute";
     return false;
   }
+  const std::optional<Step> step_kind = ParseStep(step->second);
+  if (!step_kind) {
+    *why = "its step attribute '" + step->second + "' is not a step acqd takes";
+    return false;
+  }
   int pose_index = -1;
   try {
     pose_index = std::stoi(pose->second);
@@ -50,7 +55,7 @@ bool ReadIdentity(const std::string& session, const std::string& relative, Found
   // before the attribute) the name's own, when it agrees with the camera's to its rounding.
   double exposure = -1;
   for (double t : ParseBracketText(out->bracket))
-    if (pose_index >= 0 && FrameFileName(step->second, pose_index, t) == relative) exposure = t;
+    if (pose_index >= 0 && FrameFileName(*step_kind, pose_index, t) == relative) exposure = t;
   if (exposure < 0) {
     const std::size_t us = relative.rfind("us.exr"), underscore = relative.rfind('_', us);
     const double named =
@@ -60,12 +65,12 @@ bool ReadIdentity(const std::string& session, const std::string& relative, Found
     if (std::abs(named - frame.exposure_us) <= 1.5) exposure = named;
   }
   if (pose_index < 0 || exposure < 0 ||
-      FrameFileName(step->second, pose_index, exposure) != relative) {
+      FrameFileName(*step_kind, pose_index, exposure) != relative) {
     *why = "its metadata (step " + step->second + ", pose " + pose->second + ", exposure " +
            std::to_string(frame.exposure_us) + " us) does not match its name";
     return false;
   }
-  out->row = {step->second, pose_index, exposure, relative, "", 0};
+  out->row = {*step_kind, pose_index, exposure, relative, "", 0};
   return true;
 }
 
@@ -80,7 +85,7 @@ SessionRepairReport RepairSessionCatalog(const std::string& session) {
   SessionRepairReport report;
   report.already_recorded = int(catalog.Frames().size());
   // Pose -> the frames found there, to restore decisions once all are recorded.
-  std::map<std::pair<std::string, int>, std::vector<FoundFrame>> poses;
+  std::map<std::pair<Step, int>, std::vector<FoundFrame>> poses;
   for (const std::string& relative : catalog.UnrecordedFrames()) {
     FoundFrame found;
     std::string why;

@@ -5,6 +5,7 @@
 #include <cstring>
 #include <fstream>
 
+#include "core/colour.h"
 #include "core/error.h"
 
 namespace acq {
@@ -62,6 +63,22 @@ void WriteMerlBinary(const MerlBrdf& brdf, const std::string& path) {
   f.write(reinterpret_cast<const char*>(brdf.raw.data()),
           std::streamsize(brdf.raw.size() * sizeof(double)));
   if (!f) throw UserError(path, "write failed", "check free disk space");
+}
+
+MerlBrdf LuminanceOf(const MerlBrdf& brdf) {
+  MerlBrdf out;
+  for (std::size_t bin = 0; bin < merl::kBins; ++bin) {
+    double y = 0;
+    bool known = true;
+    for (int c = 0; c < 3; ++c) {
+      const double v = brdf.Value(c, bin);
+      known = known && v >= 0;
+      y += kRec709Luminance[c] * v;
+    }
+    if (known)  // unknown bins stay at the table's "no data" (-1)
+      for (int c = 0; c < 3; ++c) out.SetValue(c, bin, y);
+  }
+  return out;
 }
 
 }  // namespace acq

@@ -34,4 +34,8 @@ struct MerlBrdf {
 MerlBrdf ReadMerlBinary(const std::string& path);
 void WriteMerlBinary(const MerlBrdf& brdf, const std::string& path);
 
+// What a mono camera records of a colour BRDF: Rec. 709 luminance in all three channels (the
+// simulated camera's luminance channel, sim/sample_renderer.h).
+MerlBrdf LuminanceOf(const MerlBrdf& brdf);
+
 }  // namespace acq

@@ -9,6 +9,7 @@
 #include "core/seconds_since.h"
 #include "session/report.h"
 #include "session/reprocess.h"
+#include "session/truth_score.h"
 
 namespace acq::cli {
 
@@ -52,6 +53,12 @@ int SessionProcess(const Argv& argv) {
   report.session = r.plan.output;
   report.process = r.process;
   report.captured = false;
+  // A simulated session scored as acqd scored it: what was made of it against its truth.
+  if (HasGroundTruth(r.plan.output)) {
+    const auto scoring_start = SteadyClock::now();
+    ScoreAgainstGroundTruth(r.plan, r.plan.output, &report);
+    report.scoring_s = SecondsSince(scoring_start);
+  }
   report.wall_s = SecondsSince(start);
   WriteReport(report, r.plan.output);
   std::printf("%s\nmap: %s/svbrdf.exr; report: %s/report.txt and report.json\n",

@@ -7,10 +7,10 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
-#include <cstring>
 #include <string>
 #include <thread>
 
+#include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
 #include "core/error.h"
@@ -19,15 +19,6 @@
 namespace {
 
 using nlohmann::json;
-
-constexpr const char* kUsage =
-    "usage: acqctl [--socket PATH] COMMAND\n"
-    "  status [--json]     the session's state, step, progress, arms, frames, prompt, last error\n"
-    "  watch               a progress bar until the session ends\n"
-    "  pause | resume      at the sequencer's next safe point (between frames)\n"
-    "  abort               stop the gantry and end the session, resumable\n"
-    "  confirm [PROMPT_ID] answer the operator prompt showing (its id: acqctl status)\n"
-    "  --socket PATH       acqd's control socket (default $XDG_RUNTIME_DIR/acqd.sock)\n";
 
 // The status line parsed, checked for the fields acqctl reads.
 json ParseStatus(const std::string& socket, const std::string& reply) {
@@ -93,26 +84,27 @@ int Watch(const std::string& socket) {
 }
 
 int Run(int argc, char** argv) {
-  std::string socket = acq::DefaultControlSocket(), command, argument;
+  CLI::App app{"acqctl: talks to a running acqd over its control socket", "acqctl"};
+  std::string socket = acq::DefaultControlSocket();
+  app.add_option("--socket", socket, "acqd's control socket")
+      ->option_text("PATH (default $XDG_RUNTIME_DIR/acqd.sock)");
+  app.require_subcommand(1);
+  app.fallthrough();  // --socket also after the command, as before
   bool json_out = false;
-  for (int i = 1; i < argc; ++i) {
-    if (!std::strcmp(argv[i], "--socket") && i + 1 < argc)
-      socket = argv[++i];
-    else if (!std::strcmp(argv[i], "--json"))
-      json_out = true;
-    else if (!std::strcmp(argv[i], "--help") || !std::strcmp(argv[i], "-h")) {
-      std::fputs(kUsage, stdout);
-      return 0;
-    } else if (command.empty())
-      command = argv[i];
-    else if (command == "confirm" && argument.empty())
-      argument = argv[i];
-    else {
-      std::fprintf(stderr, "acqctl: unexpected '%s'\n%s", argv[i], kUsage);
-      return 1;
-    }
-  }
-  if (command == "status") {
+  CLI::App* status = app.add_subcommand(
+      "status", "the session's state, step, progress, arms, frames, prompt, last error");
+  status->add_flag("--json", json_out, "the status line as acqd sends it (JSON)");
+  CLI::App* watch = app.add_subcommand("watch", "a progress bar until the session ends");
+  app.add_subcommand("pause", "at the sequencer's next safe point (between frames)");
+  app.add_subcommand("resume", "go on after a pause");
+  app.add_subcommand("abort", "stop the gantry and end the session, resumable");
+  std::string prompt_id;
+  app.add_subcommand("confirm", "answer the operator prompt showing")
+      ->add_option("PROMPT_ID", prompt_id, "the prompt's id (acqctl status)");
+  CLI11_PARSE(app, argc, argv);
+
+  const CLI::App* command = app.get_subcommands().front();
+  if (command == status) {
     const std::string reply = acq::ControlRequest(socket, "status");
     const json j = ParseStatus(socket, reply);
     if (json_out)
@@ -121,15 +113,12 @@ int Run(int argc, char** argv) {
       PrintStatus(j);
     return 0;
   }
-  if (command == "watch") return Watch(socket);
-  if (acq::ParseCommandKind(command)) {
-    const std::string request = argument.empty() ? command : command + " " + argument;
-    const std::string reply = acq::ControlRequest(socket, request);
-    std::printf("%s\n", reply.c_str());
-    return reply.rfind("ok", 0) == 0 ? 0 : 1;
-  }
-  std::fprintf(stderr, "acqctl: unknown command '%s'\n%s", command.c_str(), kUsage);
-  return 1;
+  if (command == watch) return Watch(socket);
+  const std::string name = command->get_name();
+  const std::string request = prompt_id.empty() ? name : name + " " + prompt_id;
+  const std::string reply = acq::ControlRequest(socket, request);
+  std::printf("%s\n", reply.c_str());
+  return reply.rfind("ok", 0) == 0 ? 0 : 1;
 }
 
 }  // namespace

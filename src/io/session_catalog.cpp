@@ -139,28 +139,35 @@ void SessionCatalog::RecordFrame(CatalogFrame frame) {
   frame.sha256 = Sha256OfFile(full);
   frame.bytes = std::int64_t(fs::file_size(full));
   if (HasFrame(frame.step, frame.pose, frame.exposure_us))
-    throw UserError(path_, "frame " + frame.step + " pose " + std::to_string(frame.pose) + " at " +
+    throw UserError(path_, std::string("frame ") + ToString(frame.step) + " pose " +
+                               std::to_string(frame.pose) + " at " +
                                std::to_string(frame.exposure_us) + " us is already recorded");
   Statement s(db_,
               "INSERT INTO frames (step, pose, exposure_us, path, sha256, bytes)"
               " VALUES (?, ?, ?, ?, ?, ?)",
               path_);
-  s.Bind(1, frame.step).Bind(2, std::int64_t(frame.pose)).Bind(3, frame.exposure_us);
+  s.Bind(1, ToString(frame.step)).Bind(2, std::int64_t(frame.pose)).Bind(3, frame.exposure_us);
   s.Bind(4, frame.path).Bind(5, frame.sha256).Bind(6, frame.bytes).Step();
 }
 
-bool SessionCatalog::HasFrame(const std::string& step, int pose, double exposure_us) const {
+bool SessionCatalog::HasFrame(Step step, int pose, double exposure_us) const {
   Statement s(db_, "SELECT 1 FROM frames WHERE step = ? AND pose = ? AND exposure_us = ?", path_);
-  s.Bind(1, step).Bind(2, std::int64_t(pose)).Bind(3, exposure_us);
+  s.Bind(1, ToString(step)).Bind(2, std::int64_t(pose)).Bind(3, exposure_us);
   return s.Step();
 }
 
 namespace {
 
-std::vector<CatalogFrame> FrameRows(Statement& s) {
+std::vector<CatalogFrame> FrameRows(Statement& s, const std::string& where) {
   std::vector<CatalogFrame> out;
-  while (s.Step())
-    out.push_back({s.Text(0), int(s.Int(1)), s.Real(2), s.Text(3), s.Text(4), s.Int(5)});
+  while (s.Step()) {
+    const std::optional<Step> step = ParseStep(s.Text(0));
+    if (!step)
+      throw UserError(
+          where, "a frame row names the step '" + s.Text(0) + "', which acqd does not know",
+          "was the catalog written by another program? `acq session repair` rebuilds it");
+    out.push_back({*step, int(s.Int(1)), s.Real(2), s.Text(3), s.Text(4), s.Int(5)});
+  }
   return out;
 }
 
@@ -169,20 +176,22 @@ std::vector<CatalogFrame> FrameRows(Statement& s) {
 std::vector<CatalogFrame> SessionCatalog::Frames() const {
   Statement s(db_, "SELECT step, pose, exposure_us, path, sha256, bytes FROM frames ORDER BY rowid",
               path_);
-  return FrameRows(s);
+  return FrameRows(s, path_);
 }
 
-std::vector<CatalogFrame> SessionCatalog::FramesOf(const std::string& step, int pose) const {
+std::vector<CatalogFrame> SessionCatalog::FramesOf(Step step, int pose) const {
   Statement s(db_,
               "SELECT step, pose, exposure_us, path, sha256, bytes FROM frames "
               "WHERE step = ? AND pose = ? ORDER BY rowid",
               path_);
-  s.Bind(1, step).Bind(2, std::int64_t(pose));
-  return FrameRows(s);
+  s.Bind(1, ToString(step)).Bind(2, std::int64_t(pose));
+  return FrameRows(s, path_);
 }
 
-void SessionCatalog::MarkStepDone(const std::string& step) {
-  Statement(db_, "INSERT OR IGNORE INTO steps (step) VALUES (?)", path_).Bind(1, step).Step();
+void SessionCatalog::MarkStepDone(Step step) {
+  Statement(db_, "INSERT OR IGNORE INTO steps (step) VALUES (?)", path_)
+      .Bind(1, ToString(step))
+      .Step();
 }
 
 void SessionCatalog::RecordDecision(const std::string& key, const std::string& value) {
@@ -205,9 +214,9 @@ std::map<std::string, std::string> SessionCatalog::Decisions() const {
   return out;
 }
 
-bool SessionCatalog::StepDone(const std::string& step) const {
+bool SessionCatalog::StepDone(Step step) const {
   Statement s(db_, "SELECT 1 FROM steps WHERE step = ?", path_);
-  s.Bind(1, step);
+  s.Bind(1, ToString(step));
   return s.Step();
 }
 
@@ -225,14 +234,14 @@ std::vector<std::pair<std::string, std::string>> SessionCatalog::Events() const 
   return out;
 }
 
-std::string FrameFileName(const std::string& step, int pose, double exposure_us) {
+std::string FrameFileName(Step step, int pose, double exposure_us) {
   char name[128];
-  std::snprintf(name, sizeof name, "frames/%s_%03d_%.0fus.exr", step.c_str(), pose, exposure_us);
+  std::snprintf(name, sizeof name, "frames/%s_%03d_%.0fus.exr", ToString(step), pose, exposure_us);
   return name;
 }
 
-std::string BracketDecisionKey(const std::string& step, int pose) {
-  return "bracket/" + step + "/" + std::to_string(pose);
+std::string BracketDecisionKey(Step step, int pose) {
+  return std::string("bracket/") + ToString(step) + "/" + std::to_string(pose);
 }
 
 std::string BracketText(const std::vector<double>& exposures_us) {

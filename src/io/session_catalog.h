@@ -16,13 +16,15 @@
 #include <string>
 #include <vector>
 
+#include "core/session_vocabulary.h"
+
 struct sqlite3;
 
 namespace acq {
 
 struct CatalogFrame {
-  std::string step;  // "sample", "spectralon", "board", "intrinsics"
-  int pose = 0;      // index in the visiting order (or capture number)
+  Step step = Step::kSample;
+  int pose = 0;  // index in the visiting order (or capture number)
   double exposure_us = 0;
   std::string path;  // relative to the session directory (frames/...)
   std::string sha256;
@@ -43,14 +45,15 @@ class SessionCatalog {
   // UserError when the same (step, pose, exposure) is already recorded: a frame is never
   // recorded twice.
   void RecordFrame(CatalogFrame frame);
-  bool HasFrame(const std::string& step, int pose, double exposure_us) const;
+  bool HasFrame(Step step, int pose, double exposure_us) const;
+  // Throws UserError for a row whose step this build does not know (a catalog from elsewhere).
   std::vector<CatalogFrame> Frames() const;
   // The frames of one pose of a step, in recording order (an indexed query: the capture asks
   // after every pose, and the whole list grows with the session).
-  std::vector<CatalogFrame> FramesOf(const std::string& step, int pose) const;
+  std::vector<CatalogFrame> FramesOf(Step step, int pose) const;
 
-  void MarkStepDone(const std::string& step);
-  bool StepDone(const std::string& step) const;
+  void MarkStepDone(Step step);
+  bool StepDone(Step step) const;
   void Event(const std::string& level, const std::string& message);
   std::vector<std::pair<std::string, std::string>> Events() const;  // (level, message), in order
   // Choices made while capturing that a resumed run must repeat, not make again (the automatic
@@ -82,11 +85,11 @@ class SessionCatalog {
 
 // The session's name for a frame file ("frames/sample_007_16000us.exr"), and whether a file
 // name under frames/ is one acqd writes (a frame, or one being written: ".partial").
-std::string FrameFileName(const std::string& step, int pose, double exposure_us);
+std::string FrameFileName(Step step, int pose, double exposure_us);
 // The decision key of the automatic bracket chosen at a pose ("bracket/sample/7"), and the
 // bracket's text as the decision and each frame's `bracket_us` attribute hold it (exposures in
 // microseconds, space-separated, exact to the last bit).
-std::string BracketDecisionKey(const std::string& step, int pose);
+std::string BracketDecisionKey(Step step, int pose);
 std::string BracketText(const std::vector<double>& exposures_us);
 std::vector<double> ParseBracketText(const std::string& text);
 bool IsFrameFileName(const std::string& filename);

@@ -39,7 +39,7 @@ void BackgroundProcessing::Run() {
   }
 }
 
-void BackgroundProcessing::PoseCaptured(const std::string& dir, const std::string& step, int pose,
+void BackgroundProcessing::PoseCaptured(const std::string& dir, Step step, int pose,
                                         std::vector<CatalogFrame> frames) {
   std::lock_guard<std::mutex> lock(mutex_);
   queue_.push_back([this, dir, step, pose, frames = std::move(frames)] {

@@ -28,8 +28,7 @@ class BackgroundProcessing {
   BackgroundProcessing& operator=(const BackgroundProcessing&) = delete;
 
   // A pose's frames are all in the session (`frames`: those of the pose).
-  void PoseCaptured(const std::string& dir, const std::string& step, int pose,
-                    std::vector<CatalogFrame> frames);
+  void PoseCaptured(const std::string& dir, Step step, int pose, std::vector<CatalogFrame> frames);
   // The board steps are captured: `session` holds their frames.
   void BoardsCaptured(SessionFrames session);
   // Waits for the queue; the calibration when it was computed.

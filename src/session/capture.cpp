@@ -62,24 +62,27 @@ void SafePoint(CaptureContext& c) {
   }
 }
 
-std::string Instructions(const std::string& item, int intrinsics_captures) {
-  if (item == kSpectralonItem)
-    return "place the Spectralon board flat on the sample plane, centred where the sample was";
-  if (item == kBoardItem)
-    return "lay the chessboard flat on the sample plane, centred, its x axis towards gantry "
-           "azimuth 0 (it defines the sample frame)";
-  const std::string held = std::string(kBoardItem) + "/";
-  if (item.rfind(held, 0) == 0)
-    return "hold or prop the chessboard in pose " + item.substr(held.size()) + " of " +
-           std::to_string(intrinsics_captures) +
-           " under the camera: all of it in view, tilted 20 to 40 degrees, a different part of "
-           "the image and a different tilt each time";
+std::string Instructions(const Placement& p, int intrinsics_captures) {
+  switch (p.item) {
+    case Item::kSpectralon:
+      return "place the Spectralon board flat on the sample plane, centred where the sample was";
+    case Item::kBoard:
+      if (p.held_pose == 0)
+        return "lay the chessboard flat on the sample plane, centred, its x axis towards gantry "
+               "azimuth 0 (it defines the sample frame)";
+      return "hold or prop the chessboard in pose " + std::to_string(p.held_pose) + " of " +
+             std::to_string(intrinsics_captures) +
+             " under the camera: all of it in view, tilted 20 to 40 degrees, a different part "
+             "of the image and a different tilt each time";
+    case Item::kSample:
+      break;
+  }
   return "place the sample flat on the sample plane, centred under the reference view";
 }
 
 // Makes sure `item` lies under the gantry: an operator is asked and confirms with `acqctl
-// confirm` (the gantry holds still meanwhile), or the simulated world places it.
-double Place(CaptureContext& c, const std::string& item, int intrinsics_captures) {
+// confirm` (the gantry holds still meanwhile), or the simulated instrument places it.
+double Place(CaptureContext& c, const Placement& item, int intrinsics_captures) {
   if (c.placed == item) return 0;
   const auto start = SteadyClock::now();
   if (c.ask_operator) {
@@ -98,7 +101,7 @@ double Place(CaptureContext& c, const std::string& item, int intrinsics_captures
   }
   if (c.place) c.place(item);
   c.placed = item;
-  c.catalog.Event("info", item + " placed");
+  c.catalog.Event("info", ToString(item) + " placed");
   return SecondsSince(start);
 }
 
@@ -175,19 +178,16 @@ std::vector<CaptureStep> CaptureSteps(const Plan& plan, const SessionVisits& vis
   // A board needs one frame, its white squares just short of saturation: exposed for at the
   // pose whatever the plan's bracket (a grazing light leaves it too dark for a fixed one).
   if (plan.intrinsics_captures > 0)
-    steps.push_back(
-        {"intrinsics", kBoardItem, &visits.intrinsics, &visits.intrinsics_direction, true, 1});
-  steps.push_back({"board", kBoardItem, &visits.sample, &plan.directions, false, 1});
+    steps.push_back({Step::kIntrinsics, &visits.intrinsics, &visits.intrinsics_direction, true, 1});
+  steps.push_back({Step::kBoard, &visits.sample, &plan.directions, false, 1});
   if (validate)
-    steps.push_back(
-        {"board_validation", kBoardItem, &visits.validation, &plan.validation, false, 1});
-  steps.push_back({"sample", kSampleItem, &visits.sample, &plan.directions});
-  if (validate) steps.push_back({"validation", kSampleItem, &visits.validation, &plan.validation});
+    steps.push_back({Step::kBoardValidation, &visits.validation, &plan.validation, false, 1});
+  steps.push_back({Step::kSample, &visits.sample, &plan.directions});
+  if (validate) steps.push_back({Step::kValidation, &visits.validation, &plan.validation});
   if (plan.spectralon) {
-    steps.push_back({"spectralon", kSpectralonItem, &visits.sample, &plan.directions});
+    steps.push_back({Step::kSpectralon, &visits.sample, &plan.directions});
     if (validate)
-      steps.push_back(
-          {"spectralon_validation", kSpectralonItem, &visits.validation, &plan.validation});
+      steps.push_back({Step::kSpectralonValidation, &visits.validation, &plan.validation});
   }
   return steps;
 }
@@ -200,8 +200,8 @@ CaptureReport Capture(const Plan& plan, const CaptureStep& step, CaptureContext&
   const std::vector<PlannedPose>& poses = step.visit->poses;
   for (std::size_t i = 0; i < poses.size(); ++i, ++c.poses_done) {
     const PlannedPose& pose = poses[i];
-    const std::string where =
-        step.step + " pose " + std::to_string(i + 1) + " of " + std::to_string(poses.size());
+    const std::string where = std::string(ToString(step.step)) + " pose " + std::to_string(i + 1) +
+                              " of " + std::to_string(poses.size());
     status.progress = c.poses_total > 0 ? double(c.poses_done) / c.poses_total : 0;
     // Empty for an automatic bracket not chosen yet: the pose is not done.
     std::vector<double> bracket = RecordedBracket(plan, step, int(i), c.catalog);
@@ -217,7 +217,7 @@ CaptureReport Capture(const Plan& plan, const CaptureStep& step, CaptureContext&
     if (c.poses_taken > 0)
       status.eta_s = SecondsSince(c.started) / c.poses_taken * (c.poses_total - c.poses_done);
     ++c.poses_taken;
-    report.operator_s += Place(c, step.ItemAt(i), plan.intrinsics_captures);
+    report.operator_s += Place(c, step.PlacementAt(i), plan.intrinsics_captures);
     status.step = where + ": moving";
     SafePoint(c);
     const auto move_start = SteadyClock::now();
@@ -255,7 +255,7 @@ CaptureReport Capture(const Plan& plan, const CaptureStep& step, CaptureContext&
       const std::string name = FrameFileName(step.step, int(i), t);
       const StreamStatistics stats = c.camera.Statistics();
       WriteFrameExr((fs::path(c.catalog.directory()) / name).string(), frame,
-                    {{"step", step.step},
+                    {{"step", ToString(step.step)},
                      {"pose", std::to_string(i)},
                      {"direction", (*step.directions)[pose.index].where},
                      {"arms_commanded_deg", ArmAnglesAttribute(pose.arms)},
@@ -275,7 +275,7 @@ CaptureReport Capture(const Plan& plan, const CaptureStep& step, CaptureContext&
   }
   c.catalog.MarkStepDone(step.step);
   if (c.step_captured) c.step_captured(step.step);
-  status.step = step.step + " captured";
+  status.step = std::string(ToString(step.step)) + " captured";
   c.control.Publish(status);
   return report;
 }

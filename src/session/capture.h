@@ -4,25 +4,27 @@
 // missing. Between frames (the safe points) the status is published and operator commands are
 // taken: pause waits for resume, abort stops the gantry and leaves the session resumable.
 //
-// Steps, in capture order: "intrinsics" (the chessboard held in a new pose for every capture,
-// the camera straight above the sample: the lens's intrinsics), "board" and "board_validation"
-// (the chessboard flat on the sample plane at every pose of the sample's and the validation's
-// visits: each view's cam_from_sample, and the board defines the sample frame), "sample" (the
-// sample at the plan's directions), "validation" (the sample at the validation directions,
-// never used to reconstruct), "spectralon" and "spectralon_validation" (the Spectralon board at
-// the same poses: the light's irradiance per view). Before a capture whose item (a held board
-// pose, the board, the sample, the Spectralon) is not the one under the gantry, the item is
-// placed: by the operator (a prompt on the control socket, answered with `acqctl confirm`) or,
-// in simulation, by the simulated world.
+// Steps, in capture order (core/session_vocabulary.h): intrinsics (the chessboard held in a new
+// pose for every capture, the camera straight above the sample: the lens's intrinsics), board and
+// board_validation (the chessboard flat on the sample plane at every pose of the sample's and the
+// validation's visits: each view's cam_from_sample, and the board defines the sample frame),
+// sample (the sample at the plan's directions), validation (the sample at the validation
+// directions, never used to reconstruct), spectralon and spectralon_validation (the Spectralon
+// board at the same poses: the light's irradiance per view). Before a capture whose placement (a
+// held board pose, the board, the sample, the Spectralon) is not the one under the gantry, it is
+// placed: by the operator (a prompt on the control socket, answered with `acqctl confirm`) or, in
+// simulation, by the simulated instrument.
 #pragma once
 
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "acq/move_planner.h"
 #include "acq/plan.h"
 #include "core/seconds_since.h"
+#include "core/session_vocabulary.h"
 #include "hw/camera.h"
 #include "hw/gantry.h"
 #include "io/session_catalog.h"
@@ -38,22 +40,17 @@ struct CaptureReport {
   CaptureReport& operator+=(const CaptureReport& o);
 };
 
-// The items the operator places (and the simulated world knows).
-inline constexpr const char* kSampleItem = "sample";
-inline constexpr const char* kSpectralonItem = "spectralon";
-inline constexpr const char* kBoardItem = "board";  // held: "board/K", the K-th pose (1-based)
-
 struct CaptureStep {
-  std::string step;  // the catalog's step name
-  std::string item;  // what must lie under the gantry
+  Step step = Step::kSample;
   const VisitPlan* visit = nullptr;
   const std::vector<Direction>* directions = nullptr;  // visit's poses index these
-  bool new_placement_per_pose = false;  // the item is placed anew for every pose ("board/K")
+  bool new_placement_per_pose = false;  // the board is held anew for every pose ("board/K")
   // > 0: exposures chosen at each pose (and recorded), at most this many, whatever the plan's
   // bracket; 0: the plan's bracket, fixed or automatic.
   int max_auto_frames = 0;
-  std::string ItemAt(std::size_t pose) const {
-    return new_placement_per_pose ? item + "/" + std::to_string(pose + 1) : item;
+  // What must lie under the gantry for pose `pose` (0-based) of the step.
+  Placement PlacementAt(std::size_t pose) const {
+    return {ItemOf(step), new_placement_per_pose ? int(pose) + 1 : 0};
   }
 };
 
@@ -83,13 +80,13 @@ struct CaptureContext {
   // Ask the operator to place each item (prompt, `acqctl confirm`); then `place`, where given,
   // follows the confirmation (the simulated world). Without asking, `place` places it.
   bool ask_operator = true;
-  std::function<void(const std::string& item)> place;
-  std::string placed;     // the item known to be under the gantry ("" after a restart)
-  int prompts_shown = 0;  // operator prompts shown by this run: the next one's id
+  std::function<void(const Placement&)> place;
+  std::optional<Placement> placed;  // known to be under the gantry (none after a restart)
+  int prompts_shown = 0;            // operator prompts shown by this run: the next one's id
   // Told when a pose's frames are all in the session (taken now or before), and when a step is
   // captured: processing that can start then (background.h).
-  std::function<void(const std::string& step, int pose)> pose_captured;
-  std::function<void(const std::string& step)> step_captured;
+  std::function<void(Step step, int pose)> pose_captured;
+  std::function<void(Step step)> step_captured;
   int poses_done = 0, poses_total = 0;  // for the progress over the whole session
   int poses_taken = 0;                  // this run: the rate the ETA is estimated from
   SteadyClock::time_point started = SteadyClock::now();

@@ -49,20 +49,20 @@ bool ReadUpToDate(const std::string& path, const std::string& dir,
 
 }  // namespace
 
-std::vector<CatalogFrame> SessionFrames::OfPose(const std::string& step, int pose) const {
+std::vector<CatalogFrame> SessionFrames::OfPose(Step step, int pose) const {
   std::vector<CatalogFrame> out;
   for (const CatalogFrame& f : frames)
     if (f.step == step && f.pose == pose) out.push_back(f);
   return out;
 }
 
-std::string PoseName(const std::string& step, int pose) {
+std::string PoseName(Step step, int pose) {
   char name[64];
-  std::snprintf(name, sizeof name, "%s_%03d", step.c_str(), pose);
+  std::snprintf(name, sizeof name, "%s_%03d", ToString(step), pose);
   return name;
 }
 
-PoseHdr MergePose(const std::string& dir, const std::string& step, int pose,
+PoseHdr MergePose(const std::string& dir, Step step, int pose,
                   const std::vector<CatalogFrame>& frames, double* seconds) {
   const auto start = SteadyClock::now();
   const std::string path = dir + "/hdr/" + PoseName(step, pose) + ".exr";
@@ -91,8 +91,7 @@ PoseHdr MergePose(const std::string& dir, const std::string& step, int pose,
   return p;
 }
 
-std::map<int, PoseHdr> MergeStep(const std::string& step, const SessionFrames& session,
-                                 double* seconds) {
+std::map<int, PoseHdr> MergeStep(Step step, const SessionFrames& session, double* seconds) {
   std::map<int, std::vector<CatalogFrame>> by_pose;
   for (const CatalogFrame& f : session.frames)
     if (f.step == step) by_pose[f.pose].push_back(f);

@@ -24,7 +24,7 @@ struct SessionFrames {
     return {catalog.directory(), catalog.Frames()};
   }
   // The frames of one pose of a step, in the catalog's order.
-  std::vector<CatalogFrame> OfPose(const std::string& step, int pose) const;
+  std::vector<CatalogFrame> OfPose(Step step, int pose) const;
 };
 
 struct PoseHdr {
@@ -34,15 +34,14 @@ struct PoseHdr {
 };
 
 // "<step>_NNN": the pose's name in hdr/, correspondence/ and messages.
-std::string PoseName(const std::string& step, int pose);
+std::string PoseName(Step step, int pose);
 
 // The merged image of one pose from its frames (merged and written, or read back when its hdr
 // file is up to date); adds the time taken to `*seconds`.
-PoseHdr MergePose(const std::string& dir, const std::string& step, int pose,
+PoseHdr MergePose(const std::string& dir, Step step, int pose,
                   const std::vector<CatalogFrame>& frames, double* seconds);
 
 // Every pose of `step` in the session (pose index -> image).
-std::map<int, PoseHdr> MergeStep(const std::string& step, const SessionFrames& session,
-                                 double* seconds);
+std::map<int, PoseHdr> MergeStep(Step step, const SessionFrames& session, double* seconds);
 
 }  // namespace acq

@@ -36,8 +36,7 @@ std::array<ViewImage, 3> Channels(const HdrImage& hdr) {
 
 // The views of `step` (with the Spectralon captures of `spectralon_step` where there are any):
 // each pose's correspondence map, from the camera pose its board capture gave.
-std::vector<SessionView> ViewsOf(const Plan& plan, const std::string& step,
-                                 const std::string& spectralon_step,
+std::vector<SessionView> ViewsOf(const Plan& plan, Step step, Step spectralon_step,
                                  const calib::ReferenceView& reference,
                                  const SessionGeometry& geometry, const SessionFrames& session,
                                  ProcessReport* report) {
@@ -141,7 +140,7 @@ ProcessReport ProcessSession(const Plan& plan, SessionCatalog& catalog,
   report.sample_points = calib::SamplePoints(reference);
 
   std::vector<SessionView> views =
-      ViewsOf(plan, "sample", "spectralon", reference, geometry, session, &report);
+      ViewsOf(plan, Step::kSample, Step::kSpectralon, reference, geometry, session, &report);
   if (views.empty()) throw UserError(dir, "no sample frames to process");
 
   start = SteadyClock::now();
@@ -159,18 +158,18 @@ ProcessReport ProcessSession(const Plan& plan, SessionCatalog& catalog,
   info.camera_model = dir + "/calibration/camera.cameramodel";
   report.reconstruction = Reconstruct(mapped.View(), source, options, info, dir + "/svbrdf.exr");
   report.reconstruction_s = SecondsSince(start);
-  catalog.MarkStepDone("reconstruction");
+  catalog.Event("info", "reconstructed: svbrdf.exr");
 
   if (plan.validation.empty()) return report;
-  std::vector<SessionView> checks =
-      ViewsOf(plan, "validation", "spectralon_validation", reference, geometry, session, &report);
+  std::vector<SessionView> checks = ViewsOf(plan, Step::kValidation, Step::kSpectralonValidation,
+                                            reference, geometry, session, &report);
   start = SteadyClock::now();
   const SvbrdfMap map = ReadSvbrdfMap(dir + "/svbrdf.exr");
   for (std::size_t i = 0; i < checks.size(); ++i) {
     const std::string name = checks[i].name;
     // Named by the validation pose it shows: a pose left out (its board not found) leaves a gap
     // in the numbers, never shifts the names of the others.
-    const std::string render = "renders/" + PoseName("validation", checks[i].pose) + ".png";
+    const std::string render = "renders/" + PoseName(Step::kValidation, checks[i].pose) + ".png";
     const ValidationResult r =
         CompareWithCapture(map, mapped.View(), std::move(checks[i]), plan.lookup);
     ValidationSummary s{name, r.pixels, r.relative_rms, r.median_relative, render};

@@ -48,8 +48,7 @@ calib::BoardSpec BoardOf(const Plan& plan) {
 }
 
 // Detects the board in every pose of `step`, each observation named after its pose.
-std::vector<calib::BoardObservation> Detect(const std::map<int, PoseHdr>& poses,
-                                            const std::string& step,
+std::vector<calib::BoardObservation> Detect(const std::map<int, PoseHdr>& poses, Step step,
                                             const calib::BoardSpec& board) {
   const calib::Detector detector = calib::ParseDetector("auto", board);
   std::vector<calib::BoardObservation> out;
@@ -106,7 +105,7 @@ calib::Pose KinematicPose(const Plan& plan, const ArmAngles& arms) {
       calib::ArmPositionInSample(arms.camera_theta, arms.camera_phi, plan.camera_distance_mm));
 }
 
-void Extrinsics(const Plan& plan, const calib::BoardSpec& board, const std::string& step,
+void Extrinsics(const Plan& plan, const calib::BoardSpec& board, Step step,
                 const std::map<int, PoseHdr>& poses,
                 const std::vector<calib::BoardObservation>& obs, SessionCalibration* c) {
   std::size_t k = 0;
@@ -141,26 +140,26 @@ void WriteExtrinsics(const SessionCalibration& c, const std::string& path) {
                "# cam_from_sample per pose (mrcal rt: Rodrigues r, translation t in mm), from "
                "the board on the sample plane\n"
                "step\tpose\tfound\tcorners\trms_px\tr0\tr1\tr2\tt0\tt1\tt2\t"
-               "angle_from_kinematics_deg\tshift_from_kinematics_mm\n");
+               "angle_from_kinematics_deg\tshift_from_kinematics_mm\t"
+               "light_theta_deg\tlight_phi_deg\tcamera_theta_deg\tcamera_phi_deg\n");
   for (const BoardPoseResult& b : c.boards) {
     const calib::Pose& p = b.cam_from_sample;
-    std::fprintf(f, "%s\t%d\t%d\t%d\t%.4f\t%.9f\t%.9f\t%.9f\t%.6f\t%.6f\t%.6f\t%.4f\t%.3f\n",
-                 b.step.c_str(), b.pose, int(b.found), b.corners, b.rms_px, p.r.x(), p.r.y(),
+    const ArmAngles& a = b.arms;  // measured at the board's capture (for scoring, reprocessing)
+    std::fprintf(f,
+                 "%s\t%d\t%d\t%d\t%.4f\t%.9f\t%.9f\t%.9f\t%.6f\t%.6f\t%.6f\t%.4f\t%.3f\t"
+                 "%.9f\t%.9f\t%.9f\t%.9f\n",
+                 ToString(b.step), b.pose, int(b.found), b.corners, b.rms_px, p.r.x(), p.r.y(),
                  p.r.z(), p.t.x(), p.t.y(), p.t.z(), b.angle_from_kinematics_deg,
-                 b.shift_from_kinematics_mm);
+                 b.shift_from_kinematics_mm, RadToDeg(a.light_theta), RadToDeg(a.light_phi),
+                 RadToDeg(a.camera_theta), RadToDeg(a.camera_phi));
   }
   std::fclose(f);
 }
 
 }  // namespace
 
-std::string SessionCalibration::BoardStepOf(const std::string& step) {
-  const bool validation = step.find("validation") != std::string::npos;
-  return validation ? "board_validation" : "board";
-}
-
-const BoardPoseResult* SessionCalibration::PoseOf(const std::string& step, int pose) const {
-  const std::string board = BoardStepOf(step);
+const BoardPoseResult* SessionCalibration::PoseOf(Step step, int pose) const {
+  const Step board = BoardStepFor(step);
   for (const BoardPoseResult& b : boards)
     if (b.step == board && b.pose == pose) return b.found ? &b : nullptr;
   return nullptr;
@@ -174,8 +173,8 @@ SessionCalibration CalibrateSession(const Plan& plan, const SessionFrames& sessi
   SessionCalibration c;
   std::vector<calib::BoardObservation> all;
   if (plan.intrinsics_captures > 0) {
-    const std::map<int, PoseHdr> held = MergeStep("intrinsics", session, hdr_seconds);
-    const std::vector<calib::BoardObservation> obs = Detect(held, "intrinsics", board);
+    const std::map<int, PoseHdr> held = MergeStep(Step::kIntrinsics, session, hdr_seconds);
+    const std::vector<calib::BoardObservation> obs = Detect(held, Step::kIntrinsics, board);
     all.insert(all.end(), obs.begin(), obs.end());
     Intrinsics(plan, dir, held, obs, &c);
   } else {
@@ -183,8 +182,8 @@ SessionCalibration CalibrateSession(const Plan& plan, const SessionFrames& sessi
     c.intrinsics_from = plan.intrinsics_file;
   }
   c.camera.Write(dir + "/calibration/camera.cameramodel");
-  for (const std::string step : {"board", "board_validation"}) {
-    if (step == "board_validation" && plan.validation.empty()) continue;
+  for (const Step step : {Step::kBoard, Step::kBoardValidation}) {
+    if (step == Step::kBoardValidation && plan.validation.empty()) continue;
     const std::map<int, PoseHdr> poses = MergeStep(step, session, hdr_seconds);
     const std::vector<calib::BoardObservation> obs = Detect(poses, step, board);
     all.insert(all.end(), obs.begin(), obs.end());
@@ -213,11 +212,18 @@ SessionCalibration ReadSessionCalibration(const std::string& session_dir) {
     BoardPoseResult b;
     int found = 0;
     Eigen::Vector3d r, t;
-    fields >> b.step >> b.pose >> found >> b.corners >> b.rms_px >> r.x() >> r.y() >> r.z() >>
+    std::string step;
+    fields >> step >> b.pose >> found >> b.corners >> b.rms_px >> r.x() >> r.y() >> r.z() >>
         t.x() >> t.y() >> t.z() >> b.angle_from_kinematics_deg >> b.shift_from_kinematics_mm;
-    if (!fields)
+    const std::optional<Step> parsed = ParseStep(step);
+    if (!fields || !parsed)
       throw UserError(path + ":" + std::to_string(line_number), "not an extrinsics row",
                       "process from the calibration stage (--from calibration)");
+    b.step = *parsed;
+    double arms[4];  // absent from files written before the arms were recorded
+    b.arms_known = bool(fields >> arms[0] >> arms[1] >> arms[2] >> arms[3]);
+    if (b.arms_known)
+      b.arms = {DegToRad(arms[0]), DegToRad(arms[1]), DegToRad(arms[2]), DegToRad(arms[3])};
     b.found = found != 0;
     b.cam_from_sample.r = r;
     b.cam_from_sample.t = t;

@@ -22,7 +22,7 @@
 namespace acq {
 
 struct BoardPoseResult {
-  std::string step;  // "board" or "board_validation"
+  Step step = Step::kBoard;  // kBoard or kBoardValidation
   int pose = 0;
   bool found = false;
   int corners = 0;
@@ -30,7 +30,8 @@ struct BoardPoseResult {
   // The calibrated pose against the one the arms' kinematics predict: what calibration fixes.
   double angle_from_kinematics_deg = 0, shift_from_kinematics_mm = 0;
   calib::Pose cam_from_sample;
-  ArmAngles arms;  // measured when the board was captured
+  ArmAngles arms;          // measured when the board was captured
+  bool arms_known = true;  // false: read from an extrinsics.tsv written without them
 };
 
 struct SessionCalibration {
@@ -42,11 +43,9 @@ struct SessionCalibration {
   std::vector<std::string> warnings;
   std::vector<BoardPoseResult> boards;
 
-  // The board step whose poses are those of `step` ("sample" -> "board", "validation" and
-  // "spectralon_validation" -> "board_validation", "spectralon" -> "board").
-  static std::string BoardStepOf(const std::string& step);
-  // The calibrated pose at `pose` of `step`; nullptr when its board was not found.
-  const BoardPoseResult* PoseOf(const std::string& step, int pose) const;
+  // The calibrated pose at `pose` of `step` (from its board step, BoardStepFor); nullptr when
+  // its board was not found.
+  const BoardPoseResult* PoseOf(Step step, int pose) const;
 };
 
 // Throws UserError (what to recapture) when the intrinsics cannot be solved.
@@ -54,8 +53,9 @@ SessionCalibration CalibrateSession(const Plan& plan, const SessionFrames& sessi
                                     double* hdr_seconds);
 
 // The calibration CalibrateSession wrote into `session_dir`/calibration (camera.cameramodel,
-// extrinsics.tsv; poses to 1e-9 rad and 1e-6 mm, as written). The arms and the intrinsics'
-// figures are not in those files and stay zero. UserError naming a file missing or malformed.
+// extrinsics.tsv; poses to 1e-9 rad and 1e-6 mm, the arms to 1e-9 deg, as written). The
+// intrinsics' figures are not in those files and stay zero. UserError naming a file missing or
+// malformed.
 SessionCalibration ReadSessionCalibration(const std::string& session_dir);
 
 }  // namespace acq

@@ -1,0 +1,66 @@
+#include "sim/ground_truth.h"
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "core/error.h"
+#include "io/float_planes_exr.h"
+
+namespace acq::sim {
+namespace {
+
+constexpr const char* kFormat = "acq-ground-truth-1";
+
+}  // namespace
+
+void WriteGroundTruth(const std::string& dir, const RenderScene& scene,
+                      const calib::CameraModel& camera) {
+  std::filesystem::create_directories(dir);
+  FloatPlanes labels;
+  labels.width = scene.card.width;
+  labels.height = scene.card.height;
+  labels.planes["material"].assign(scene.card.label.begin(), scene.card.label.end());
+  labels.attributes["acqFormat"] = kFormat;
+  std::ostringstream size;
+  size.precision(17);  // read back exactly: the label rule divides by it
+  size << scene.card.sample_size_mm;
+  labels.attributes["sampleSizeMm"] = size.str();
+  WriteFloatPlanesExr(dir + "/ground_truth_labels.exr", labels);
+  std::ofstream names(dir + "/materials.tsv");
+  names << "# index\tname\n";
+  for (std::size_t i = 0; i < scene.materials.size(); ++i)
+    names << i << "\t"
+          << (i < scene.material_names.size() ? scene.material_names[i]
+                                              : "material" + std::to_string(i))
+          << "\n";
+  camera.Write(dir + "/camera.cameramodel");
+}
+
+GroundTruthFiles ReadGroundTruth(const std::string& dir) {
+  const std::string labels_path = dir + "/ground_truth_labels.exr";
+  const FloatPlanes labels = ReadFloatPlanesExr(labels_path);
+  const auto format = labels.attributes.find("acqFormat");
+  const auto size = labels.attributes.find("sampleSizeMm");
+  const auto material = labels.planes.find("material");
+  if (format == labels.attributes.end() || format->second != kFormat ||
+      size == labels.attributes.end() || material == labels.planes.end())
+    throw UserError(labels_path, "not the simulated card's ground truth (" + std::string(kFormat) +
+                                     " with a material plane and sampleSizeMm)");
+  GroundTruthFiles truth;
+  truth.card.width = labels.width;
+  truth.card.height = labels.height;
+  truth.card.sample_size_mm = std::atof(size->second.c_str());
+  for (float v : material->second) truth.card.label.push_back(std::uint8_t(std::lround(v)));
+  std::ifstream names(dir + "/materials.tsv");
+  for (std::string line; std::getline(names, line);) {
+    if (line.empty() || line[0] == '#') continue;
+    const std::size_t tab = line.find('\t');
+    truth.material_names.push_back(tab == std::string::npos ? line : line.substr(tab + 1));
+  }
+  truth.camera = calib::CameraModel::Read(dir + "/camera.cameramodel");
+  return truth;
+}
+
+}  // namespace acq::sim

@@ -1,0 +1,151 @@
+#include "sim/instrument.h"
+
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+
+#include "calib/extrinsics.h"
+#include "calib/synthetic_board.h"
+#include "core/error.h"
+#include "sim/ground_truth.h"
+
+namespace acq::sim {
+namespace {
+
+// The pinhole whose image holds the card with a margin (it fills 80% of the shorter side) at
+// the arm's distance: small frames keep a simulated session quick.
+calib::CameraModel FramingPinhole(const InstrumentOptions& o) {
+  const int w = o.image_width, h = o.image_height;
+  const double f = 0.8 * std::min(w, h) * o.camera_distance_mm / o.sample_size_mm;
+  return calib::CameraModel("LENSMODEL_PINHOLE", {f, f, (w - 1) / 2.0, (h - 1) / 2.0}, w, h);
+}
+
+}  // namespace
+
+void InstrumentOptions::Check() const {
+  if (material_files.empty())
+    throw UserError(where, "the simulated card has no materials",
+                    "list neural-BRDF fits (.h5) for its inks in sim.materials");
+  if (material_files.size() > 255)
+    throw UserError(where, "the simulated card holds at most 255 materials");
+  if (!(sample_size_mm > 0) || !(camera_distance_mm > 0) || !(light_distance_mm > 0) ||
+      !(light_intensity > 0))
+    throw UserError(where,
+                    "the sample's size, the arms' distances and the light's intensity "
+                    "must be positive");
+  if (camera_model_file.empty() &&
+      (image_width < 16 || image_height < 16 || image_width > 16384 || image_height > 16384))
+    throw UserError(where, "the simulated camera's image must be 16 to 16384 pixels a side");
+  if (held_board_poses < 0) throw UserError(where, "a negative number of held board poses");
+}
+
+Instrument::Instrument(const InstrumentOptions& options) : options_(options) {
+  options_.Check();
+  for (const std::string& path : options_.material_files)
+    networks_.push_back(NeuralBrdf::Load(path));
+  scene_.kind = RenderScene::Kind::kCard;
+  scene_.sample_size_mm = options_.sample_size_mm;
+  // The card's layout at 0.1 mm per label cell, a few times finer than a camera pixel.
+  const int cells = std::max(16, int(options_.sample_size_mm * 10));
+  scene_.card =
+      MakeCardLayout(cells, cells, options_.sample_size_mm, int(networks_.size()), options_.seed);
+  for (std::size_t i = 0; i < networks_.size(); ++i) {
+    scene_.materials.push_back({&networks_[i], nullptr});
+    scene_.material_names.push_back(
+        std::filesystem::path(options_.material_files[i]).stem().string());
+  }
+  model_ = options_.camera_model_file.empty()
+               ? FramingPinhole(options_)
+               : calib::CameraModel::Read(options_.camera_model_file);
+  scene_.board = options_.board;
+  PlaceHeldBoards();
+  gantry_ = std::make_unique<EmulatedUsbGantry>(options_.firmware, options_.usb);
+  SimCameraOptions camera;
+  camera.seed = options_.seed;
+  sensor_ = camera.sensor;
+  const double camera_mm = options_.camera_distance_mm, light_mm = options_.light_distance_mm;
+  const double intensity = options_.light_intensity;
+  camera_ = std::make_unique<SimGigECamera>(
+      scene_, model_,
+      [this, camera_mm, light_mm, intensity] {
+        const ArmAngles arms =
+            gantry_->WithFirmware([](SimGantryFirmware& f) { return f.Measured(); });
+        return ViewFromArms(arms, camera_mm, light_mm, intensity);
+      },
+      camera);
+}
+
+// The operator's board poses for the intrinsics: spread over the view of the camera straight
+// above the sample (where the sequencer holds it for these captures), tilted up to 35 degrees
+// towards any side, within 5% of the arm's distance.
+void Instrument::PlaceHeldBoards() {
+  const int n = options_.held_board_poses;
+  if (n == 0) return;
+  const double distance = options_.camera_distance_mm;
+  calib::BoardPoseSampling sampling;
+  sampling.min_distance_mm = 0.95 * distance;
+  sampling.max_distance_mm = 1.05 * distance;
+  sampling.max_tilt_deg = 35;
+  sampling.seed = options_.seed;
+  const std::vector<calib::Pose> cam_from_board =
+      calib::SampleBoardPoses(model_, scene_.board, n, sampling);
+  if (int(cam_from_board.size()) < n) {
+    const double view_mm = model_.width() / model_.intrinsics()[0] * distance;
+    char why[160];
+    std::snprintf(why, sizeof why,
+                  "the board (%d x %d corners, %.1f mm squares) does not fit the simulated "
+                  "camera's view, %.0f mm across",
+                  scene_.board.width_n, scene_.board.height_n, scene_.board.spacing_mm, view_mm);
+    throw UserError(options_.where, why, "give calibration.board a smaller spacing_mm or size");
+  }
+  const calib::Pose sample_from_cam =
+      calib::CamFromSampleLookingAtCentre({0, 0, distance}).Inverse();
+  // mrcal's board frame to the chessboard's (the sample frame a flat board defines).
+  const calib::Pose board_from_chessboard = calib::SampleFromBoard(scene_.board).Inverse();
+  for (const calib::Pose& p : cam_from_board)
+    held_boards_.push_back(sample_from_cam.Compose(p).Compose(board_from_chessboard));
+}
+
+double Instrument::LightIntensityInCounts(int max_dn) const {
+  return options_.light_intensity * sensor_.CountsPerRadianceUs(max_dn);
+}
+
+void Instrument::Place(const Placement& p) {
+  RenderScene scene = scene_;
+  switch (p.item) {
+    case Item::kSpectralon:
+      scene.kind = RenderScene::Kind::kSpectralon;
+      break;
+    case Item::kBoard:
+      scene.kind = RenderScene::Kind::kChessboard;  // flat on the sample plane unless held
+      if (p.held_pose > 0) {
+        if (p.held_pose > int(held_boards_.size()))
+          throw UserError(options_.where, "no held board pose " + std::to_string(p.held_pose),
+                          "the instrument places " + std::to_string(held_boards_.size()));
+        scene.sample_from_chessboard = held_boards_[std::size_t(p.held_pose) - 1];
+      }
+      break;
+    case Item::kSample:
+      break;
+  }
+  camera_->SetScene(std::move(scene));
+}
+
+std::vector<MerlBrdf> LuminanceTables(const std::vector<std::string>& material_files) {
+  std::vector<MerlBrdf> tables;
+  for (const std::string& path : material_files)
+    tables.push_back(LuminanceOf(NeuralBrdf::Load(path).Tabulate()));
+  return tables;
+}
+
+std::vector<MerlBrdf> Instrument::TruthTables() const {
+  std::vector<MerlBrdf> tables;
+  for (const NeuralBrdf& n : networks_) tables.push_back(LuminanceOf(n.Tabulate()));
+  return tables;
+}
+
+void Instrument::WriteGroundTruth(const std::string& dir) const {
+  sim::WriteGroundTruth(dir, scene_, model_);
+}
+
+}  // namespace acq::sim

@@ -1,0 +1,82 @@
+// The simulated instrument behind `backend: sim` (issues 8, 21): the gantry firmware presented
+// as a USB device by umockdev, and the GigE Vision camera on 127.0.0.2 rendering the card from
+// where that gantry holds the arms. acqd reaches both through its real drivers (UsbTransport,
+// AravisCamera), exactly as it reaches the instrument; it fills InstrumentOptions from the plan.
+// Both devices need their environment (sim/environment.h).
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "brdf/merl_brdf.h"
+#include "brdf/neural_brdf.h"
+#include "calib/board.h"
+#include "calib/camera_model.h"
+#include "core/session_vocabulary.h"
+#include "sim/gantry_firmware.h"
+#include "sim/sim_gige_camera.h"
+#include "sim/usb_gantry_device.h"
+
+namespace acq::sim {
+
+struct InstrumentOptions {
+  std::vector<std::string> material_files;  // neural-BRDF fits (.h5): the card's inks
+  double sample_size_mm = 70;               // the square card's side
+  double camera_distance_mm = 1000, light_distance_mm = 1000;
+  double light_intensity = 2e5;  // the renderer's units x mm^2
+  calib::BoardSpec board{10, 10, 20};
+  int held_board_poses = 0;  // poses of the board held up for the intrinsics captures
+  // The camera: this lens (an mrcal .cameramodel, whose size it has), or else a pinhole of
+  // this size whose image holds the card with a margin at the arm's distance.
+  std::string camera_model_file;
+  int image_width = 320, image_height = 320;
+  FirmwareOptions firmware;
+  EmulatedUsbOptions usb;
+  std::uint64_t seed = 1;
+  std::string where = "the simulated instrument";  // what its errors name (the plan)
+  // Throws UserError (naming `where`) for options no instrument can be built from.
+  void Check() const;
+};
+
+class Instrument {
+ public:
+  explicit Instrument(const InstrumentOptions& options);
+  Instrument(const Instrument&) = delete;
+  Instrument& operator=(const Instrument&) = delete;
+
+  const std::string& camera_address() const { return camera_->address(); }
+  const EmulatedUsbOptions& usb() const { return options_.usb; }
+  EmulatedUsbGantry& gantry() { return *gantry_; }
+  SimGigECamera& camera() { return *camera_; }
+  const calib::CameraModel& camera_model() const { return model_; }
+  // The light's intensity in the HDR images' units (counts per us at 0 dB, x mm^2) at a
+  // format's full scale: what a Spectralon capture measures on the instrument.
+  double LightIntensityInCounts(int max_dn) const;
+  // Puts `p` under the gantry in place of the operator; UserError for a held board pose the
+  // instrument has not placed (beyond held_board_poses).
+  void Place(const Placement& p);
+  // The card's materials tabulated on the MERL grid as the simulated mono camera records them
+  // (luminance in every channel), in label order.
+  std::vector<MerlBrdf> TruthTables() const;
+  // Writes the card's ground truth (sim/ground_truth.h) into `dir`.
+  void WriteGroundTruth(const std::string& dir) const;
+
+ private:
+  void PlaceHeldBoards();
+
+  InstrumentOptions options_;
+  std::vector<calib::Pose> held_boards_;  // sample_from_chessboard per intrinsics capture
+  std::vector<NeuralBrdf> networks_;
+  RenderScene scene_;
+  calib::CameraModel model_;
+  SensorModel sensor_;
+  std::unique_ptr<EmulatedUsbGantry> gantry_;
+  std::unique_ptr<SimGigECamera> camera_;
+};
+
+// The simulated mono camera's record of a set of materials: each tabulated, in luminance.
+std::vector<MerlBrdf> LuminanceTables(const std::vector<std::string>& material_files);
+
+}  // namespace acq::sim

@@ -1,0 +1,98 @@
+#include "session/truth_score.h"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+
+#include "brdf/basis_file.h"
+#include "brdf/directions.h"
+#include "brdf/evaluation.h"
+#include "core/angles.h"
+#include "io/float_planes_exr.h"
+#include "sim/ground_truth.h"
+#include "sim/instrument.h"
+#include "sim/sim_gige_camera.h"
+
+namespace acq {
+namespace {
+
+// The map against the card's true materials (as the mono camera records them), and the
+// homogeneous result for the same materials at the same directions.
+void ScoreMapAgainstTruth(const Plan& plan, const std::string& dir,
+                          const sim::GroundTruthFiles& truth_files, SessionReport* report) {
+  const MappedBasis mapped = MappedBasis::Open(plan.basis_file);
+  const std::vector<MerlBrdf> truth = sim::LuminanceTables(plan.sim_materials);
+  std::vector<int> labels;
+  labels.reserve(report->process.sample_points.size());
+  for (const Eigen::Vector3d& p : report->process.sample_points)
+    labels.push_back(truth_files.card.LabelAt(p.head<2>()));
+  report->score = ScoreMap(ReadSvbrdfMap(dir + "/svbrdf.exr"), mapped.View(), labels, truth);
+  FloatPlanes error;  // per pixel, for a look at where the map is wrong
+  error.width = report->process.reference_width;
+  error.height = report->process.reference_height;
+  error.planes["log_rmse"] = report->score.log_rmse;
+  error.attributes["meaning"] = "log-space RMSE against the true material; -1 off the card";
+  WriteFloatPlanesExr(dir + "/ground_truth/error.exr", error);
+  std::vector<double> homogeneous;
+  const std::vector<std::size_t> bins = BinsOf(plan.directions);
+  report->homogeneous_log_rmse.clear();
+  for (const MerlBrdf& m : truth) {
+    double sum = 0;
+    for (const ChannelError& e :
+         EvaluateHomogeneous(mapped.View(), m, bins, RidgeOptions{plan.components, plan.eta})) {
+      homogeneous.push_back(e.log_rmse);
+      sum += e.log_rmse / 3;
+    }
+    report->homogeneous_log_rmse.push_back(sum);
+  }
+  report->materials = truth_files.material_names;
+  report->homogeneous_median_log_rmse = Median(homogeneous);
+  report->scored = true;
+}
+
+// The calibrated geometry against the simulated instrument's: points on a grid over the sample
+// projected through the calibrated camera and pose, and through the true ones at the arms the
+// gantry measured, at every board pose; and the camera centre the board alone would give.
+void ScoreCalibration(const Plan& plan, const calib::CameraModel& true_camera,
+                      SessionReport* report) {
+  const SessionCalibration& c = report->process.calibration;
+  std::vector<double> misalignment, eye_error_deg;
+  for (const BoardPoseResult& b : c.boards) {
+    if (!b.found || !b.arms_known) continue;
+    const calib::Pose truth =
+        sim::ViewFromArms(b.arms, plan.camera_distance_mm, plan.light_distance_mm, 1)
+            .cam_from_sample;
+    for (int i = 0; i <= 4; ++i)
+      for (int j = 0; j <= 4; ++j) {
+        const Eigen::Vector3d p((i / 4.0 - 0.5) * plan.sample_width_mm,
+                                (j / 4.0 - 0.5) * plan.sample_height_mm, 0);
+        const Eigen::Vector2d a = c.camera.Project(b.cam_from_sample * p);
+        const Eigen::Vector2d t = true_camera.Project(truth * p);
+        misalignment.push_back((a - t).norm());
+      }
+    // The camera's centre the board alone gives, as seen from the sample centre.
+    const Eigen::Vector3d eye = b.cam_from_sample.Inverse().t, true_eye = truth.Inverse().t;
+    eye_error_deg.push_back(
+        RadToDeg(std::acos(std::min(1.0, eye.normalized().dot(true_eye.normalized())))));
+  }
+  if (misalignment.empty()) return;
+  report->alignment_median_px = Median(misalignment);
+  report->alignment_max_px = *std::max_element(misalignment.begin(), misalignment.end());
+  report->board_eye_error_median_deg = Median(eye_error_deg);
+  report->board_eye_error_max_deg = *std::max_element(eye_error_deg.begin(), eye_error_deg.end());
+}
+
+}  // namespace
+
+bool HasGroundTruth(const std::string& session_dir) {
+  return std::filesystem::is_regular_file(session_dir + "/ground_truth/ground_truth_labels.exr");
+}
+
+void ScoreAgainstGroundTruth(const Plan& plan, const std::string& session_dir,
+                             SessionReport* report) {
+  const sim::GroundTruthFiles truth = sim::ReadGroundTruth(session_dir + "/ground_truth");
+  ScoreMapAgainstTruth(plan, session_dir, truth, report);
+  ScoreCalibration(plan, truth.camera, report);
+}
+
+}  // namespace acq
