@@ -10,11 +10,11 @@
 #include <string>
 #include <thread>
 
-#include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
 #include "core/error.h"
 #include "daemon/control.h"
+#include "daemon/parse_args.h"
 
 namespace {
 
@@ -88,7 +88,7 @@ int Run(int argc, char** argv) {
   std::string socket = acq::DefaultControlSocket();
   app.add_option("--socket", socket, "acqd's control socket")
       ->option_text("PATH (default $XDG_RUNTIME_DIR/acqd.sock)");
-  app.require_subcommand(1);
+  app.require_subcommand(0, 1);
   app.fallthrough();  // --socket also after the command, as before
   bool json_out = false;
   CLI::App* status = app.add_subcommand(
@@ -101,8 +101,11 @@ int Run(int argc, char** argv) {
   std::string prompt_id;
   app.add_subcommand("confirm", "answer the operator prompt showing")
       ->add_option("PROMPT_ID", prompt_id, "the prompt's id (acqctl status)");
-  CLI11_PARSE(app, argc, argv);
-
+  if (const std::optional<int> exit = acq::ParseArgs(app, argc, argv)) return *exit;
+  if (app.get_subcommands().empty()) {
+    std::fputs(("acqctl: a command is required\n" + app.help()).c_str(), stderr);
+    return 1;
+  }
   const CLI::App* command = app.get_subcommands().front();
   if (command == status) {
     const std::string reply = acq::ControlRequest(socket, "status");

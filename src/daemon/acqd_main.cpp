@@ -7,8 +7,6 @@
 // session to the session library (session/run.h), which verifies the catalog, opens the devices
 // through the opener here, captures, processes and reports; a simulated session is scored
 // against its ground truth (session/truth_score.h).
-#include <CLI/CLI.hpp>
-
 #include <cstdio>
 #include <memory>
 #include <string>
@@ -17,6 +15,7 @@
 #include "core/error.h"
 #include "core/stop_request.h"
 #include "daemon/control.h"
+#include "daemon/parse_args.h"
 #include "hw/aravis_camera.h"
 #include "hw/protocol_gantry.h"
 #include "hw/usb_transport.h"
@@ -95,15 +94,18 @@ int Run(int argc, char** argv) {
   CLI::App app{"acqd: runs a capture session from a plan (docs/session-and-plan.md)", "acqd"};
   std::string session, socket = DefaultControlSocket();
   bool dry_run = false;
-  app.add_option("--session", session, "the plan (.yaml) of the session to run")
-      ->required()
+  app.add_option("--session", session, "the plan (.yaml) of the session to run (required)")
       ->option_text("PLAN.yaml");
   app.add_flag("--dry-run", dry_run,
                "validate the plan, print the schedule, the visiting order and the estimated "
                "time; open no device, move nothing");
   app.add_option("--socket", socket, "the control socket acqctl talks to")
       ->option_text("PATH (default $XDG_RUNTIME_DIR/acqd.sock)");
-  CLI11_PARSE(app, argc, argv);
+  if (const std::optional<int> exit = ParseArgs(app, argc, argv)) return *exit;
+  if (session.empty()) {
+    std::fputs(("acqd: --session PLAN.yaml is required\n" + app.help()).c_str(), stderr);
+    return 1;
+  }
 
   const Plan plan = LoadPlan(session);
   CheckSessionInputs(plan);
