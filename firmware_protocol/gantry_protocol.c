@@ -111,12 +111,52 @@ static void decode_payload(gp_message* m, const uint8_t* p) {
   (void)n;
 }
 
+const char* gp_axis_name(int axis) {
+  switch (axis) {
+#define AXIS(name, index) \
+  case index:             \
+    return #name;
+#define FAULT(name, bit, meaning)
+#include "gantry_vocabulary.def"
+#undef FAULT
+#undef AXIS
+    default:
+      return "?";
+  }
+}
+
+const char* gp_fault_name(uint16_t bit) {
+#define AXIS(name, index)
+#define FAULT(name, b, meaning) \
+  if (bit == (1u << b)) return #name;
+#include "gantry_vocabulary.def"
+#undef FAULT
+#undef AXIS
+  return "?";
+}
+
+const char* gp_fault_meaning(uint16_t bit) {
+#define AXIS(name, index)
+#define FAULT(name, b, meaning) \
+  if (bit == (1u << b)) return meaning;
+#include "gantry_vocabulary.def"
+#undef FAULT
+#undef AXIS
+  return "an unknown fault bit";
+}
+
+/* The text the schema hash covers: the message table, then the vocabulary. */
 #define STRINGIFY(x) #x
 #define FIELD(type, name) type name;
 #define MESSAGE(name, id, fields) #name "=" #id "{" STRINGIFY(fields) "}"
+#define AXIS(name, index) "axis " #name "=" #index ";"
+#define FAULT(name, bit, meaning) "fault " #name "=" #bit ";"
 static const char kSchema[] =
 #include "gantry_messages.def"
+#include "gantry_vocabulary.def"
     ;
+#undef FAULT
+#undef AXIS
 #undef MESSAGE
 #undef FIELD
 

@@ -63,6 +63,31 @@ typedef struct {
   } body;
 } gp_message;
 
+/* The axes in the protocol's order and the fault bits (gantry_vocabulary.def). */
+enum gp_axis {
+#define AXIS(name, index) GP_AXIS_##name = index,
+#define FAULT(name, bit, meaning)
+#include "gantry_vocabulary.def"
+#undef FAULT
+#undef AXIS
+  GP_AXIS_COUNT
+};
+enum gp_fault_bit {
+#define AXIS(name, index)
+#define FAULT(name, bit, meaning) GP_FAULT_BIT_##name = 1u << bit,
+#include "gantry_vocabulary.def"
+#undef FAULT
+#undef AXIS
+  GP_FAULT_BIT_NONE = 0
+};
+
+/* Name of an axis ("LIGHT_THETA"), or "?". */
+const char* gp_axis_name(int axis);
+/* Name and meaning of one fault bit ("STALL", "an axis did not follow its command"), or "?"
+ * and "an unknown fault bit". */
+const char* gp_fault_name(uint16_t bit);
+const char* gp_fault_meaning(uint16_t bit);
+
 /* The protocol's angle unit (millidegrees) from and to radians. */
 static inline int32_t gp_mdeg_from_rad(double rad) {
   const double mdeg = rad * (180000.0 / 3.14159265358979323846);

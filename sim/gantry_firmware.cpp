@@ -20,7 +20,7 @@ void SimGantryFirmware::Reset() {
   lease_until_s_ = 0;
   // Parked where the arms rest after power-up: light at 45 degrees, camera overhead.
   const double parked[4] = {DegToRad(45), 0, 0, 0};
-  for (int i = 0; i < 4; ++i) axes_[i] = {parked[i], parked[i], now_s_, parked[i]};
+  for (int i = 0; i < GP_AXIS_COUNT; ++i) axes_[i] = {parked[i], parked[i], now_s_, parked[i]};
 }
 
 ArmAngles SimGantryFirmware::Measured() const {
@@ -46,11 +46,11 @@ void SimGantryFirmware::Advance(double seconds) {
   // Small steps so the lease and the stall are noticed mid-move.
   while (now_s_ < end) {
     now_s_ = std::min(end, now_s_ + 0.01);
-    for (int i = 0; i < 4; ++i) {
+    for (int i = 0; i < GP_AXIS_COUNT; ++i) {
       Axis& a = axes_[i];
       if (i == faults.stalled_axis) {
         if (a.to != a.from) {
-          faults_ |= kFaultStall;
+          faults_ |= GP_FAULT_BIT_STALL;
           StopAxes();
         }
         continue;
@@ -60,11 +60,11 @@ void SimGantryFirmware::Advance(double seconds) {
     if (!Moving())
       for (Axis& a : axes_) a.from = a.to = a.position;  // arrived and settled: at rest
     if (Moving() && now_s_ > lease_until_s_) {
-      faults_ |= kFaultLeaseExpired;
+      faults_ |= GP_FAULT_BIT_LEASE_EXPIRED;
       StopAxes();
     }
     if (faults.trip_limit && Moving()) {
-      faults_ |= kFaultLimit;
+      faults_ |= GP_FAULT_BIT_LIMIT;
       StopAxes();
     }
   }
@@ -94,7 +94,7 @@ gp_message SimGantryFirmware::StatusMessage(std::uint8_t sequence) const {
   b.camera_phi_mdeg = gp_mdeg_from_rad(axes_[3].position);
   b.moving_mask = Moving() ? 0x0F : 0;
   b.homed_mask = homed_ ? 0x0F : 0;
-  b.limit_mask = (faults_ & kFaultLimit) ? 0x01 : 0;
+  b.limit_mask = (faults_ & GP_FAULT_BIT_LIMIT) ? 0x01 : 0;
   b.fault_bits = faults_;
   b.last_command_id = last_command_id_;
   return s;
@@ -113,7 +113,7 @@ gp_message SimGantryFirmware::Handle(const gp_message& m) {
       return StatusMessage(m.sequence);
     case GP_ESTOP:  // accepted in every state
       StopAxes();
-      faults_ |= kFaultEstop;
+      faults_ |= GP_FAULT_BIT_ESTOP;
       light_on_ = false;
       return Result(m, GP_OK);
     case GP_STOP:
@@ -121,7 +121,7 @@ gp_message SimGantryFirmware::Handle(const gp_message& m) {
       return Result(m, GP_OK);
     case GP_CLEAR_FAULT:
       faults_ &= std::uint16_t(~m.body.CLEAR_FAULT.fault_bits);
-      if (m.body.CLEAR_FAULT.fault_bits & kFaultLimit) faults.trip_limit = false;
+      if (m.body.CLEAR_FAULT.fault_bits & GP_FAULT_BIT_LIMIT) faults.trip_limit = false;
       return Result(m, GP_OK);
     case GP_LEASE:
       lease_until_s_ = now_s_ + m.body.LEASE.duration_ms / 1000.0;
@@ -134,7 +134,7 @@ gp_message SimGantryFirmware::Handle(const gp_message& m) {
       if (faults_) return Result(m, GP_FAULT);
       if (Moving()) return Result(m, GP_BUSY);
       const double home[4] = {DegToRad(45), 0, 0, 0};
-      for (int i = 0; i < 4; ++i)
+      for (int i = 0; i < GP_AXIS_COUNT; ++i)
         axes_[i] = {axes_[i].position, home[i], now_s_, axes_[i].position};
       homed_ = true;
       lease_until_s_ = std::max(lease_until_s_, now_s_ + 60.0);  // homing carries its own lease
@@ -155,7 +155,8 @@ gp_message SimGantryFirmware::Handle(const gp_message& m) {
         return Result(m, why.find("apart") != std::string::npos ? GP_COLLISION : GP_OUT_OF_RANGE);
       const double to[4] = {target.light_theta, target.light_phi, target.camera_theta,
                             target.camera_phi};
-      for (int i = 0; i < 4; ++i) axes_[i] = {axes_[i].position, to[i], now_s_, axes_[i].position};
+      for (int i = 0; i < GP_AXIS_COUNT; ++i)
+        axes_[i] = {axes_[i].position, to[i], now_s_, axes_[i].position};
       last_command_id_ = mv.command_id;
       ++executed_moves_;
       return Result(m, GP_OK);

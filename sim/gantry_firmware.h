@@ -15,13 +15,6 @@
 
 namespace acq::sim {
 
-enum FaultBit : std::uint16_t {
-  kFaultStall = 1 << 0,         // an axis did not follow its command
-  kFaultLimit = 1 << 1,         // a limit switch tripped
-  kFaultLeaseExpired = 1 << 2,  // the host stopped renewing the lease during motion
-  kFaultEstop = 1 << 3,         // emergency stop
-};
-
 struct FirmwareOptions {
   TrapezoidProfile axis{DegToRad(30), DegToRad(60)};  // rad/s, rad/s^2
   double settle_s = 0.5;
@@ -34,7 +27,7 @@ struct FirmwareOptions {
 struct FirmwareFaults {
   double drop_reply_probability = 0;  // replies lost on the way back
   double corrupt_reply_probability = 0;
-  int stalled_axis = -1;  // 0..3: that axis stops following (light theta, light phi, ...)
+  int stalled_axis = -1;  // a gp_axis (GP_AXIS_LIGHT_THETA...): that axis stops following
   bool trip_limit = false;
   std::uint64_t seed = 1;
 };

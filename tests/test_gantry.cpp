@@ -95,11 +95,12 @@ TEST_CASE(
   g.Home();
   MoveAndWait(g, kTarget, 10);
 
-  fw.faults.stalled_axis = 1;
+  fw.faults.stalled_axis = GP_AXIS_LIGHT_PHI;
+  // The fault named as the protocol's vocabulary names it (gantry_vocabulary.def).
   CHECK_THROWS_WITH(MoveAndWait(g, {DegToRad(50), DegToRad(20), DegToRad(25), DegToRad(140)}, 10),
-                    Catch::Contains("fault during the move"));
+                    Catch::Contains("fault during the move: STALL (an axis did not follow"));
   GantryStatus s = g.Status();
-  CHECK((s.fault_bits & sim::kFaultStall) != 0);
+  CHECK((s.fault_bits & GP_FAULT_BIT_STALL) != 0);
   CHECK_FALSE(s.Moving());
   CHECK_THROWS_WITH(g.MoveTo(kTarget), Catch::Contains("fault is latched"));
   fw.faults.stalled_axis = -1;
@@ -109,7 +110,7 @@ TEST_CASE(
 
   fw.faults.trip_limit = true;
   CHECK_THROWS(MoveAndWait(g, {DegToRad(45), 0, 0, 0}, 10));
-  CHECK((g.Status().fault_bits & sim::kFaultLimit) != 0);
+  CHECK((g.Status().fault_bits & GP_FAULT_BIT_LIMIT) != 0);
   g.ClearFaults(0xFFFF);
 
   g.RenewLease(5000);
@@ -117,14 +118,14 @@ TEST_CASE(
   g.EmergencyStop();  // mid-move
   s = g.Status();
   CHECK_FALSE(s.Moving());
-  CHECK((s.fault_bits & sim::kFaultEstop) != 0);
+  CHECK((s.fault_bits & GP_FAULT_BIT_ESTOP) != 0);
   CHECK_NOTHROW(g.EmergencyStop());  // accepted in every state
   g.ClearFaults(0xFFFF);
 
   g.RenewLease(100);  // 0.1 s of lease for a move of several seconds, never renewed
   g.MoveTo({DegToRad(30), DegToRad(-90), DegToRad(40), DegToRad(90)});
   for (int i = 0; i < 50; ++i) s = g.Status();  // about 0.25 s of simulated time
-  CHECK((s.fault_bits & sim::kFaultLeaseExpired) != 0);
+  CHECK((s.fault_bits & GP_FAULT_BIT_LEASE_EXPIRED) != 0);
   CHECK_FALSE(s.Moving());
 }
 

@@ -160,6 +160,26 @@ TEST_CASE("fuzzing the decoder: no crash, no invented message", "[protocol][fuzz
                         << " messages decoded, " << seconds << " s");
 }
 
+TEST_CASE("the axes and fault bits are declared once, in the protocol's vocabulary", "[protocol]") {
+  // The order the per-axis fields of MOVE and STATUS are written in.
+  CHECK(GP_AXIS_COUNT == 4);
+  CHECK(std::string(gp_axis_name(GP_AXIS_LIGHT_THETA)) == "LIGHT_THETA");
+  CHECK(std::string(gp_axis_name(GP_AXIS_CAMERA_PHI)) == "CAMERA_PHI");
+  CHECK(std::string(gp_axis_name(4)) == "?");
+  // One bit each, distinct, each named and explained; an unknown bit is said to be one.
+  std::uint16_t all = 0;
+  for (std::uint16_t bit :
+       {GP_FAULT_BIT_STALL, GP_FAULT_BIT_LIMIT, GP_FAULT_BIT_LEASE_EXPIRED, GP_FAULT_BIT_ESTOP}) {
+    CHECK((all & bit) == 0);
+    all |= bit;
+    CHECK(std::string(gp_fault_name(bit)) != "?");
+    CHECK(std::string(gp_fault_meaning(bit)).size() > 5);
+  }
+  CHECK(all == 0x0F);
+  CHECK(std::string(gp_fault_name(0x100)) == "?");
+  CHECK(std::string(gp_fault_meaning(0x100)) == "an unknown fault bit");
+}
+
 TEST_CASE("schema hash and sizes come from the table", "[protocol]") {
   CHECK(gp_schema_hash() != 0);
   CHECK(gp_schema_hash() == gp_schema_hash());

@@ -118,13 +118,13 @@ TEST_CASE("usb: a stalled axis or a tripped limit stops the arms with a clear er
   CHECK_THROWS_WITH(MoveAndWait(gantry, kOther, 20), Catch::Contains("fault during the move"));
   GantryStatus s = gantry.Status();
   CHECK_FALSE(s.Moving());
-  CHECK((s.fault_bits & sim::kFaultStall) != 0);
+  CHECK((s.fault_bits & GP_FAULT_BIT_STALL) != 0);
   CHECK_THROWS_WITH(gantry.MoveTo(kOther), Catch::Contains("fault is latched"));
   device.WithFirmware([](sim::SimGantryFirmware& f) { f.faults.stalled_axis = -1; });
   gantry.ClearFaults(0xFFFF);
   device.WithFirmware([](sim::SimGantryFirmware& f) { f.faults.trip_limit = true; });
   CHECK_THROWS_WITH(MoveAndWait(gantry, kOther, 20), Catch::Contains("fault during the move"));
-  CHECK((gantry.Status().fault_bits & sim::kFaultLimit) != 0);
+  CHECK((gantry.Status().fault_bits & GP_FAULT_BIT_LIMIT) != 0);
   gantry.ClearFaults(0xFFFF);
   MoveAndWait(gantry, kOther, 20);
   RequireAt(gantry.Status(), kOther);

@@ -8,6 +8,7 @@
 
 #include "core/error.h"
 #include "core/stop_request.h"
+#include "gantry_protocol.h"
 
 namespace acq {
 
@@ -27,6 +28,19 @@ void MoveAndWait(Gantry& gantry, const ArmAngles& target, const TrapezoidProfile
 
 namespace {
 
+// "STALL (an axis did not follow its command), LIMIT (...)": the protocol's names and meanings
+// of the bits set (gantry_vocabulary.def).
+std::string DescribeFaults(std::uint16_t bits) {
+  std::string out;
+  for (int b = 0; b < 16; ++b) {
+    const std::uint16_t bit = std::uint16_t(1u << b);
+    if (!(bits & bit)) continue;
+    out += (out.empty() ? "" : ", ") + std::string(gp_fault_name(bit)) + " (" +
+           gp_fault_meaning(bit) + ")";
+  }
+  return out;
+}
+
 enum class Motion { kMove, kHoming };
 
 // Waits until the arms stand still, renewing the lease; throws on a fault, on a stop signal
@@ -40,8 +54,7 @@ void WaitUntilStill(Gantry& gantry, double timeout_s, Motion motion) {
   for (;;) {
     const GantryStatus s = gantry.Status();
     if (s.fault_bits)
-      throw UserError("gantry",
-                      "fault during " + what + " (bits " + std::to_string(s.fault_bits) + ")",
+      throw UserError("gantry", "fault during " + what + ": " + DescribeFaults(s.fault_bits),
                       "the arms are stopped; check for an obstruction or a tripped limit, then "
                       "clear the fault and resume");
     if (!s.Moving()) return;
