@@ -53,28 +53,30 @@ std::string Insane(const Plan& p) {
   auto need = [&](bool ok, const char* what) {
     if (!ok) why += std::string(what) + "; ";
   };
-  need(p.sample_width_mm > 0 && p.sample_width_mm <= 1000, "sample width");
-  need(p.sample_height_mm > 0 && p.sample_height_mm <= 1000, "sample height");
-  need(p.camera_distance_mm >= 50 && p.camera_distance_mm <= 1e5, "camera distance");
-  need(p.light_distance_mm >= 50 && p.light_distance_mm <= 1e5, "light distance");
-  for (const AxisLimits* a : {&p.motion.theta, &p.motion.phi})
+  need(p.sample.width_mm > 0 && p.sample.width_mm <= 1000, "sample width");
+  need(p.sample.height_mm > 0 && p.sample.height_mm <= 1000, "sample height");
+  need(p.gantry.camera_distance_mm >= 50 && p.gantry.camera_distance_mm <= 1e5, "camera distance");
+  need(p.gantry.light_distance_mm >= 50 && p.gantry.light_distance_mm <= 1e5, "light distance");
+  for (const AxisLimits* a : {&p.gantry.motion.theta, &p.gantry.motion.phi})
     need(std::isfinite(a->speed) && a->speed > 0 && std::isfinite(a->acceleration) &&
              a->acceleration > 0,
          "axis");
-  need(p.motion.settle_s >= 0 && p.motion.settle_s <= 60, "settle");
+  need(p.gantry.motion.settle_s >= 0 && p.gantry.motion.settle_s <= 60, "settle");
   need(!p.directions.empty(), "directions");
-  for (double t : p.bracket_us) need(t >= 10 && t <= 1e7, "bracket");
-  need(p.auto_bracket != !p.bracket_us.empty(), "bracket kind");
-  need(p.camera.gain_db >= 0 && p.camera.gain_db <= 48, "gain");
-  need(p.components >= 1 && p.components <= 64, "k");
-  need(std::isfinite(p.eta) && p.eta >= 0, "eta");
-  need(p.row_tile >= 1, "row tile");
-  need(p.intrinsics_captures >= 3 || !p.intrinsics_file.empty(), "intrinsics");
-  need(p.board_width_n >= 2 && p.board_height_n >= 2, "board size");
-  need(std::isfinite(p.board_spacing_mm) && p.board_spacing_mm > 0, "board spacing");
-  need(p.sim_time_scale > 0 && p.sim_time_scale <= 1000, "time scale");
-  need(std::isfinite(p.sim_light_intensity) && p.sim_light_intensity > 0, "light intensity");
-  need(!p.sim_materials.empty(), "materials");
+  for (double t : p.camera.bracket_us) need(t >= 10 && t <= 1e7, "bracket");
+  need(p.camera.auto_bracket != !p.camera.bracket_us.empty(), "bracket kind");
+  need(p.camera.settings.gain_db >= 0 && p.camera.settings.gain_db <= 48, "gain");
+  need(p.reconstruction.components >= 1 && p.reconstruction.components <= 64, "k");
+  need(std::isfinite(p.reconstruction.eta) && p.reconstruction.eta >= 0, "eta");
+  need(p.reconstruction.row_tile >= 1, "row tile");
+  need(p.calibration.intrinsics_captures >= 3 || !p.calibration.intrinsics_file.empty(),
+       "intrinsics");
+  need(p.calibration.board_width_n >= 2 && p.calibration.board_height_n >= 2, "board size");
+  need(std::isfinite(p.calibration.board_spacing_mm) && p.calibration.board_spacing_mm > 0,
+       "board spacing");
+  need(p.sim.time_scale > 0 && p.sim.time_scale <= 1000, "time scale");
+  need(std::isfinite(p.sim.light_intensity) && p.sim.light_intensity > 0, "light intensity");
+  need(!p.sim.materials.empty(), "materials");
   return why;
 }
 

@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <functional>
+#include <optional>
 #include <set>
 
 #include "brdf/basis_file.h"
@@ -64,7 +65,13 @@ class Section {
     if (m.is_null()) m.line = m.column = 0;
     return Place(file_, m);
   }
+  // A key of this section, or a dotted path into its children ("board.spacing_mm"); the
+  // section's own place where the key is absent.
   std::string Where(const std::string& key) const {
+    const std::size_t dot = key.find('.');
+    if (dot != std::string::npos && Has(key.substr(0, dot)) &&
+        node_[key.substr(0, dot)][key.substr(dot + 1)])
+      return Where(node_[key.substr(0, dot)][key.substr(dot + 1)]);
     return Has(key) ? Where(node_[key]) : Where(node_);
   }
   std::string Qualified(const std::string& key) const {
@@ -164,6 +171,15 @@ class Section {
       throw UserError(Where(key), Qualified(key) + ": " + e.problem(), e.fix());
     }
   }
+  // Runs a section's Check(): its UserError names the key (where()), re-thrown at that key's
+  // place as "section.key must ...".
+  void Checked(const std::function<void()>& check) const {
+    try {
+      check();
+    } catch (const UserError& e) {
+      throw UserError(Where(e.where()), Qualified(e.where()) + " " + e.problem(), e.fix());
+    }
+  }
 
  private:
   YAML::Node node_;
@@ -210,6 +226,275 @@ void RequireFile(const Section& s, const std::string& key, const std::string& pa
     throw UserError(s.Where(key), s.Qualified(key) + ": no such file " + path, fix);
 }
 
+// directions.optimize: the directions chosen for the plan's basis, k and eta under the
+// gantry's constraints, scored over the sample's field of view at the arms' distances (what
+// `acq directions optimize` does); deterministic for a seed, so a resumed run gets the same.
+void OptimizePlanDirections(Plan* plan) {
+  const MappedBasis mapped = MappedBasis::Open(plan->reconstruction.basis_file);
+  OptimizerOptions o;
+  o.n = plan->optimize_n;
+  o.k = std::min(plan->reconstruction.components, plan->optimize_n);
+  o.seed = plan->optimize_seed;
+  o.candidates = plan->optimize_candidates;
+  o.constraints = plan->gantry.motion.constraints;
+  o.eta = plan->reconstruction.eta;
+  o.geometry = {plan->gantry.camera_distance_mm, plan->gantry.light_distance_mm,
+                std::max(plan->sample.width_mm, plan->sample.height_mm)};
+  o.progress = false;
+  o.Check(mapped.View());
+  const OptimizedDirections result = OptimizeDirections(mapped.View(), o);
+  plan->directions = result.directions;
+  for (std::size_t i = 0; i < plan->directions.size(); ++i)
+    plan->directions[i].where = "optimised direction " + std::to_string(i + 1);
+  char what[160];
+  std::snprintf(what, sizeof what, "%d directions optimised (seed %llu, condition number %.4g)",
+                o.n, (unsigned long long)o.seed, result.condition);
+  plan->directions_file = what;
+  CheckReachable(plan->directions, plan->gantry.motion);
+}
+
+// version, backend, output, replay.
+void ReadTop(const Section& top, const std::string& base, Plan* plan) {
+  if (top.Integer("version", 1) != 1)
+    throw UserError(top.Where("version"), "plan version " + top.Text("version") + " is not known",
+                    "this acqd reads version 1");
+  const std::string backend = top.Required("backend");
+  if (backend == "sim")
+    plan->backend = Backend::kSim;
+  else if (backend == "usb+aravis")
+    plan->backend = Backend::kUsbAravis;
+  else if (backend == "replay")
+    plan->backend = Backend::kReplay;
+  else
+    throw UserError(top.Where("backend"), "unknown backend '" + backend + "'",
+                    "use sim, usb+aravis or replay");
+  plan->output = Resolve(base, top.Required("output"));
+  if (plan->backend != Backend::kReplay) return;
+  plan->replay_session = Resolve(base, top.Required("replay"));
+  if (!fs::is_directory(plan->replay_session))
+    throw UserError(top.Where("replay"), "no session directory " + plan->replay_session,
+                    "give the directory of a recorded session");
+  std::error_code ec;
+  if (fs::exists(plan->output) && fs::equivalent(plan->output, plan->replay_session, ec))
+    throw UserError(top.Where("output"),
+                    "the replay would write into the session it replays (" + plan->output + ")",
+                    "give the replay its own output directory");
+}
+
+SampleSpec ReadSample(const Section& top) {
+  const Section sample = top.Child("sample", {"size_mm"});
+  SampleSpec s;
+  const std::vector<double> size = sample.Numbers("size_mm");
+  if (!size.empty()) {
+    if (size.size() != 2)
+      throw UserError(sample.Where("size_mm"), "sample.size_mm must be two numbers",
+                      "width and height of the sample in mm, like [70, 70]");
+    s.width_mm = size[0];
+    s.height_mm = size[1];
+  }
+  sample.Checked([&] { s.Check(); });
+  return s;
+}
+
+GantrySpec ReadGantry(const Section& top) {
+  const Section gantry =
+      top.Child("gantry", {"usb", "limits", "axes", "camera_distance_mm", "light_distance_mm"});
+  GantrySpec g;
+  const Section usb = gantry.Child("usb", {"vid", "pid", "serial"});
+  g.usb.vendor_id = std::uint16_t(usb.Integer("vid", g.usb.vendor_id, 0, 0xFFFF));
+  g.usb.product_id = std::uint16_t(usb.Integer("pid", g.usb.product_id, 0, 0xFFFF));
+  g.usb.serial = usb.Text("serial");
+  usb.At("vid", [&] { g.usb.Check(); });
+  const Section limits = gantry.Child(
+      "limits", {"max_camera_zenith_deg", "max_light_zenith_deg", "min_separation_deg"});
+  DirectionConstraints& c = g.motion.constraints;
+  c.max_camera_zenith =
+      DegToRad(limits.Number("max_camera_zenith_deg", RadToDeg(c.max_camera_zenith)));
+  c.max_light_zenith =
+      DegToRad(limits.Number("max_light_zenith_deg", RadToDeg(c.max_light_zenith)));
+  c.min_separation = DegToRad(limits.Number("min_separation_deg", RadToDeg(c.min_separation)));
+  gantry.At("limits", [&] { c.Check(); });
+  const Section axes = gantry.Child("axes", {"theta_speed_deg_s", "theta_accel_deg_s2",
+                                             "phi_speed_deg_s", "phi_accel_deg_s2", "settle_s"});
+  g.motion.ReadAxes(
+      [&](const std::string& key, double fallback) { return axes.Number(key, fallback); });
+  gantry.At("axes", [&] { g.motion.Check(); });
+  g.camera_distance_mm = gantry.Number("camera_distance_mm", g.camera_distance_mm);
+  g.light_distance_mm = gantry.Number("light_distance_mm", g.light_distance_mm);
+  gantry.Checked([&] { g.Check(); });
+  return g;
+}
+
+CameraSpec ReadCamera(const Section& top, Backend backend) {
+  const Section camera = top.Child("camera", {"id", "pixel_format", "gain_db", "hdr"});
+  CameraSpec c;
+  c.id = camera.Text("id");
+  camera.At("pixel_format", [&] {
+    c.settings.pixel_format = ParsePixelFormat(camera.Text("pixel_format", "Mono16"), "");
+  });
+  c.settings.gain_db = camera.Number("gain_db", 0);
+  const Section hdr = camera.Child("hdr", {"bracket_us", "auto"});
+  c.bracket_us = hdr.Numbers("bracket_us");
+  c.auto_bracket = hdr.Flag("auto", c.bracket_us.empty());
+  if (c.auto_bracket && !c.bracket_us.empty())
+    throw UserError(hdr.Where("auto"), "camera.hdr has both auto and bracket_us",
+                    "choose one: a fixed bracket or the automatic one");
+  camera.Checked([&] { c.Check(); });
+  if (backend == Backend::kUsbAravis && c.id.empty())
+    throw UserError(camera.Where("id"), "the usb+aravis backend needs camera.id",
+                    "`arv-tool-0.8` lists the cameras and their ids");
+  c.settings.exposure_us = c.bracket_us.empty() ? 10000 : c.bracket_us.front();
+  camera.At("gain_db", [&] { c.settings.Check(""); });
+  return c;
+}
+
+// directions: the sample's (a file, or the optimiser's settings: chosen once the basis is known)
+// and the validation's. Returns the optimiser's section when they are to be optimised (a
+// Section is returned, never assigned: assigning a YAML::Node overwrites the node it refers to).
+std::optional<Section> ReadDirections(const Section& top, const std::string& base, Plan* plan) {
+  const Section directions = top.Child("directions", {"file", "optimize", "validation"});
+  const bool optimize = directions.Has("optimize");
+  if (optimize == directions.Has("file"))
+    throw UserError(directions.Where(optimize ? "file" : "optimize"),
+                    optimize ? "directions.file and directions.optimize exclude each other"
+                             : "missing 'directions.file' or 'directions.optimize'",
+                    "give a directions TSV, or optimize: {n: 20} to choose them for the basis");
+  const Section optimizer = directions.Child("optimize", {"n", "seed", "candidates"});
+  const GantryMotion& motion = plan->gantry.motion;
+  if (optimize) {
+    plan->optimize_n = int(optimizer.Integer("n", plan->optimize_n, 1, 200));
+    plan->optimize_seed = std::uint64_t(optimizer.Integer("seed", 1, 0, LLONG_MAX));
+    plan->optimize_candidates =
+        int(optimizer.Integer("candidates", plan->optimize_candidates, 1, 1000000));
+  } else {
+    plan->directions_file = Resolve(base, directions.Required("file"));
+    RequireFile(directions, "file", plan->directions_file,
+                "give a directions TSV (acq directions optimize writes one)");
+    plan->directions = ReadDirectionsTsv(plan->directions_file);  // errors name file:line
+    if (plan->directions.empty())
+      throw UserError(directions.Where("file"), "no directions in " + plan->directions_file);
+    CheckReachable(plan->directions, motion);  // names the direction's file:line and rule
+  }
+  if (!directions.Text("validation").empty()) {
+    plan->validation_file = Resolve(base, directions.Text("validation"));
+    RequireFile(directions, "validation", plan->validation_file,
+                "give a directions TSV of light/view pairs to check the result against, or "
+                "leave directions.validation out");
+    plan->validation = ReadDirectionsTsv(plan->validation_file);
+    CheckReachable(plan->validation, motion);
+  }
+  if (!optimize) return std::nullopt;
+  return optimizer;
+}
+
+CalibrationSpec ReadCalibration(const Section& top, const std::string& base) {
+  const Section calibration =
+      top.Child("calibration", {"intrinsics_captures", "camera_model", "lensmodel", "board"});
+  CalibrationSpec c;
+  if (calibration.Has("camera_model")) {
+    // The lens calibrated before (intrinsics hold while the lens and focus stay as they were).
+    if (calibration.Has("intrinsics_captures"))
+      throw UserError(calibration.Where("camera_model"),
+                      "calibration.camera_model and calibration.intrinsics_captures exclude each "
+                      "other",
+                      "give the lens's .cameramodel, or the number of board captures to "
+                      "calibrate it in this session");
+    c.intrinsics_file = Resolve(base, calibration.Text("camera_model"));
+    RequireFile(calibration, "camera_model", c.intrinsics_file,
+                "give a .cameramodel written by acqd or `acq calibrate intrinsics`");
+    c.intrinsics_captures = 0;
+  } else {
+    c.intrinsics_captures =
+        int(calibration.Integer("intrinsics_captures", c.intrinsics_captures, 0, 1000));
+  }
+  c.lensmodel = calibration.Text("lensmodel", c.lensmodel);
+  c.lensmodel_where = calibration.Where("lensmodel");
+  const Section board = calibration.Child("board", {"size", "spacing_mm"});
+  const std::vector<int> board_size = board.Counts("size", 2, 100);
+  if (!board_size.empty()) {
+    if (board_size.size() != 2)
+      throw UserError(board.Where("size"), "calibration.board.size must be two counts >= 2",
+                      "inner corners across and down, like [10, 10]");
+    c.board_width_n = board_size[0];
+    c.board_height_n = board_size[1];
+  }
+  c.board_spacing_mm = board.Number("spacing_mm", c.board_spacing_mm);
+  calibration.Checked([&] { c.Check(); });
+  return c;
+}
+
+// The card's inks: every entry a file name of a neural-BRDF fit.
+std::vector<std::string> ReadSimMaterials(const YAML::Node& root, const Section& sim,
+                                          const std::string& base) {
+  const YAML::Node materials = root["sim"] ? root["sim"]["materials"] : YAML::Node();
+  if (!materials || !materials.IsSequence() || materials.size() == 0)
+    throw UserError(sim.Where("materials"), "the sim backend needs sim.materials",
+                    "list neural-BRDF fits (.h5) for the simulated card's inks, like "
+                    "[../data/nbrdf/merl/white-paint.h5]");
+  std::vector<std::string> files;
+  for (const YAML::Node& m : materials) {
+    if (!m.IsScalar())
+      throw UserError(sim.Where(m), "sim.materials must list file names, not lists or maps");
+    const std::string file = Resolve(base, m.as<std::string>());
+    if (!fs::is_regular_file(file))
+      throw UserError(sim.Where(m), "sim.materials: no such file " + file,
+                      "data/nbrdf/merl has the fits of the 100 MERL materials");
+    files.push_back(file);
+  }
+  return files;
+}
+
+SimSpec ReadSim(const YAML::Node& root, const Section& top, const std::string& base,
+                Backend backend) {
+  const Section sim = top.Child("sim", {"materials", "seed", "light_intensity", "time_scale",
+                                        "operator", "image_size", "camera_model"});
+  SimSpec s;
+  if (backend == Backend::kSim) s.materials = ReadSimMaterials(root, sim, base);
+  s.seed = std::uint64_t(sim.Integer("seed", 1, 0, LLONG_MAX));
+  s.light_intensity = sim.Number("light_intensity", s.light_intensity);
+  s.time_scale = sim.Number("time_scale", s.time_scale);
+  s.operator_prompts = sim.Flag("operator", s.operator_prompts);
+  const std::vector<int> image_size = sim.Counts("image_size", 16, 16384);
+  if (!image_size.empty()) {
+    if (image_size.size() != 2)
+      throw UserError(sim.Where("image_size"), "sim.image_size must be two counts",
+                      "the simulated camera's width and height in pixels, like [2048, 2048]");
+    s.image_width = image_size[0];
+    s.image_height = image_size[1];
+  }
+  if (sim.Has("camera_model")) {
+    if (sim.Has("image_size"))
+      throw UserError(sim.Where("camera_model"),
+                      "sim.camera_model and sim.image_size exclude each other",
+                      "a camera model has its own image size");
+    s.camera_model = Resolve(base, sim.Text("camera_model"));
+    RequireFile(sim, "camera_model", s.camera_model,
+                "give an mrcal .cameramodel for the simulated camera's lens");
+  }
+  sim.Checked([&] { s.Check(); });
+  return s;
+}
+
+ReconstructionSpec ReadReconstruction(const Section& top, const std::string& base) {
+  const Section recon = top.Child("reconstruction", {"basis", "k", "eta", "lookup", "row_tile"});
+  ReconstructionSpec r;
+  r.basis_file = Resolve(base, recon.Required("basis"));
+  RequireFile(recon, "basis", r.basis_file, "build one with `acq basis build` (README)");
+  r.basis_where = recon.Where("basis");
+  r.components_where = recon.Where("k");
+  r.components = int(recon.Integer("k", r.components, 1, 64));
+  r.eta = recon.Number("eta", r.eta);
+  r.row_tile = int(recon.Integer("row_tile", r.row_tile, 1, 4096));
+  const std::string lookup = recon.Text("lookup", "nearest");
+  if (const std::optional<RowLookup> parsed = ParseRowLookup(lookup))
+    r.lookup = *parsed;
+  else
+    throw UserError(recon.Where("lookup"), "reconstruction.lookup '" + lookup + "' is not known",
+                    "use nearest or interpolated");
+  recon.Checked([&] { r.Check(); });
+  return r;
+}
+
 }  // namespace
 
 const char* BackendName(Backend b) {
@@ -224,31 +509,49 @@ const char* BackendName(Backend b) {
   return "?";
 }
 
-// directions.optimize: the directions chosen for the plan's basis, k and eta under the
-// gantry's constraints, scored over the sample's field of view at the arms' distances (what
-// `acq directions optimize` does); deterministic for a seed, so a resumed run gets the same.
-static void OptimizePlanDirections(Plan* plan) {
-  const MappedBasis mapped = MappedBasis::Open(plan->basis_file);
-  OptimizerOptions o;
-  o.n = plan->optimize_n;
-  o.k = std::min(plan->components, plan->optimize_n);
-  o.seed = plan->optimize_seed;
-  o.candidates = plan->optimize_candidates;
-  o.constraints = plan->motion.constraints;
-  o.eta = plan->eta;
-  o.geometry = {plan->camera_distance_mm, plan->light_distance_mm,
-                std::max(plan->sample_width_mm, plan->sample_height_mm)};
-  o.progress = false;
-  o.Check(mapped.View());
-  const OptimizedDirections result = OptimizeDirections(mapped.View(), o);
-  plan->directions = result.directions;
-  for (std::size_t i = 0; i < plan->directions.size(); ++i)
-    plan->directions[i].where = "optimised direction " + std::to_string(i + 1);
-  char what[160];
-  std::snprintf(what, sizeof what, "%d directions optimised (seed %llu, condition number %.4g)",
-                o.n, (unsigned long long)o.seed, result.condition);
-  plan->directions_file = what;
-  CheckReachable(plan->directions, plan->motion);
+void SampleSpec::Check() const {
+  // Up to a metre: the gantry's arms are about that far away.
+  if (!(width_mm > 0 && height_mm > 0 && width_mm <= 1000 && height_mm <= 1000))
+    throw UserError("size_mm", "must be two numbers from above 0 to 1000",
+                    "width and height of the sample in mm, like [70, 70]");
+}
+
+void GantrySpec::Check() const {
+  for (auto [key, value] : {std::pair{"camera_distance_mm", camera_distance_mm},
+                            std::pair{"light_distance_mm", light_distance_mm}})
+    if (!(value >= 50 && value <= 1e5))
+      throw UserError(key, "must be from 50 to 100000 mm",
+                      "the distance from the sample's centre to the arm's camera or light");
+}
+
+void CameraSpec::Check() const {
+  for (double t : bracket_us)
+    if (!(t >= 10 && t <= 1e7))
+      throw UserError("hdr.bracket_us",
+                      "must hold exposures from 10 us to 10 s, not " + std::to_string(t) + " us",
+                      "exposures are in microseconds");
+}
+
+void CalibrationSpec::Check() const {
+  if (intrinsics_file.empty() && intrinsics_captures < 3)
+    throw UserError("intrinsics_captures", "must be at least 3",
+                    "20 to 40 is usual; or give calibration.camera_model");
+  if (lensmodel.rfind("LENSMODEL_", 0) != 0)
+    throw UserError("lensmodel", "'" + lensmodel + "' is not an mrcal lens model",
+                    "like LENSMODEL_OPENCV4 or LENSMODEL_OPENCV8 (docs/lens-model-choice.md)");
+  if (!(board_spacing_mm > 0 && board_spacing_mm <= 1000))
+    throw UserError("board.spacing_mm", "must be from above 0 to 1000 mm");
+}
+
+void SimSpec::Check() const {
+  if (!(time_scale > 0 && time_scale <= 1000))
+    throw UserError("time_scale", "must be from above 0 to 1000",
+                    "simulated seconds per wall second: 1 is real time");
+  if (!(light_intensity > 0)) throw UserError("light_intensity", "must be positive");
+}
+
+void ReconstructionSpec::Check() const {
+  if (!(eta >= 0)) throw UserError("eta", "must be >= 0");
 }
 
 Plan LoadPlan(const std::string& path, const std::string& relative_to) {
@@ -260,239 +563,21 @@ Plan LoadPlan(const std::string& path, const std::string& relative_to) {
   const Section top(root, path, "",
                     {"version", "backend", "output", "replay", "sample", "gantry", "camera",
                      "directions", "calibration", "spectralon", "reconstruction", "sim"});
-  if (top.Integer("version", 1) != 1)
-    throw UserError(top.Where("version"), "plan version " + top.Text("version") + " is not known",
-                    "this acqd reads version 1");
-  const std::string backend = top.Required("backend");
-  if (backend == "sim")
-    plan.backend = Backend::kSim;
-  else if (backend == "usb+aravis")
-    plan.backend = Backend::kUsbAravis;
-  else if (backend == "replay")
-    plan.backend = Backend::kReplay;
-  else
-    throw UserError(top.Where("backend"), "unknown backend '" + backend + "'",
-                    "use sim, usb+aravis or replay");
-  plan.output = Resolve(base, top.Required("output"));
-  if (plan.backend == Backend::kReplay) {
-    plan.replay_session = Resolve(base, top.Required("replay"));
-    if (!fs::is_directory(plan.replay_session))
-      throw UserError(top.Where("replay"), "no session directory " + plan.replay_session,
-                      "give the directory of a recorded session");
-    std::error_code ec;
-    if (fs::exists(plan.output) && fs::equivalent(plan.output, plan.replay_session, ec))
-      throw UserError(top.Where("output"),
-                      "the replay would write into the session it replays (" + plan.output + ")",
-                      "give the replay its own output directory");
-  }
-
-  const Section sample = top.Child("sample", {"size_mm"});
-  const std::vector<double> size = sample.Numbers("size_mm");
-  if (!size.empty()) {
-    // Up to a metre: the gantry's arms are about that far away.
-    if (size.size() != 2 || !(size[0] > 0) || !(size[1] > 0) || size[0] > 1000 || size[1] > 1000)
-      throw UserError(sample.Where("size_mm"),
-                      "sample.size_mm must be two numbers from above 0 to 1000",
-                      "width and height of the sample in mm, like [70, 70]");
-    plan.sample_width_mm = size[0];
-    plan.sample_height_mm = size[1];
-  }
-
-  const Section gantry =
-      top.Child("gantry", {"usb", "limits", "axes", "camera_distance_mm", "light_distance_mm"});
-  const Section usb = gantry.Child("usb", {"vid", "pid", "serial"});
-  plan.usb.vendor_id = std::uint16_t(usb.Integer("vid", plan.usb.vendor_id, 0, 0xFFFF));
-  plan.usb.product_id = std::uint16_t(usb.Integer("pid", plan.usb.product_id, 0, 0xFFFF));
-  plan.usb.serial = usb.Text("serial");
-  usb.At("vid", [&] { plan.usb.Check(); });
-  const Section limits = gantry.Child(
-      "limits", {"max_camera_zenith_deg", "max_light_zenith_deg", "min_separation_deg"});
-  DirectionConstraints& c = plan.motion.constraints;
-  c.max_camera_zenith =
-      DegToRad(limits.Number("max_camera_zenith_deg", RadToDeg(c.max_camera_zenith)));
-  c.max_light_zenith =
-      DegToRad(limits.Number("max_light_zenith_deg", RadToDeg(c.max_light_zenith)));
-  c.min_separation = DegToRad(limits.Number("min_separation_deg", RadToDeg(c.min_separation)));
-  gantry.At("limits", [&] { c.Check(); });
-  const Section axes = gantry.Child("axes", {"theta_speed_deg_s", "theta_accel_deg_s2",
-                                             "phi_speed_deg_s", "phi_accel_deg_s2", "settle_s"});
-  GantryMotion& m = plan.motion;
-  m.ReadAxes([&](const std::string& key, double fallback) { return axes.Number(key, fallback); });
-  gantry.At("axes", [&] { m.Check(); });
-  for (auto [key, value] : {std::pair{"camera_distance_mm", &plan.camera_distance_mm},
-                            std::pair{"light_distance_mm", &plan.light_distance_mm}}) {
-    *value = gantry.Number(key, *value);
-    if (!(*value >= 50 && *value <= 1e5))
-      throw UserError(gantry.Where(key), gantry.Qualified(key) + " must be from 50 to 100000 mm",
-                      "the distance from the sample's centre to the arm's camera or light");
-  }
-
-  const Section camera = top.Child("camera", {"id", "pixel_format", "gain_db", "hdr"});
-  plan.camera_id = camera.Text("id");
-  camera.At("pixel_format", [&] {
-    plan.camera.pixel_format = ParsePixelFormat(camera.Text("pixel_format", "Mono16"), "");
-  });
-  plan.camera.gain_db = camera.Number("gain_db", 0);
-  const Section hdr = camera.Child("hdr", {"bracket_us", "auto"});
-  plan.bracket_us = hdr.Numbers("bracket_us");
-  plan.auto_bracket = hdr.Flag("auto", plan.bracket_us.empty());
-  if (plan.auto_bracket && !plan.bracket_us.empty())
-    throw UserError(hdr.Where("auto"), "camera.hdr has both auto and bracket_us",
-                    "choose one: a fixed bracket or the automatic one");
-  for (double t : plan.bracket_us)
-    if (!(t >= 10 && t <= 1e7))
-      throw UserError(
-          hdr.Where("bracket_us"),
-          "camera.hdr.bracket_us: exposure " + std::to_string(t) + " us is outside 10 us to 10 s",
-          "exposures are in microseconds");
-  if (plan.backend == Backend::kUsbAravis && plan.camera_id.empty())
-    throw UserError(camera.Where("id"), "the usb+aravis backend needs camera.id",
-                    "`arv-tool-0.8` lists the cameras and their ids");
-  plan.camera.exposure_us = plan.bracket_us.empty() ? 10000 : plan.bracket_us.front();
-  camera.At("gain_db", [&] { plan.camera.Check(""); });
-
-  const Section directions = top.Child("directions", {"file", "optimize", "validation"});
-  const bool optimize = directions.Has("optimize");
-  if (optimize == directions.Has("file"))
-    throw UserError(directions.Where(optimize ? "file" : "optimize"),
-                    optimize ? "directions.file and directions.optimize exclude each other"
-                             : "missing 'directions.file' or 'directions.optimize'",
-                    "give a directions TSV, or optimize: {n: 20} to choose them for the basis");
-  const Section optimizer = directions.Child("optimize", {"n", "seed", "candidates"});
-  if (optimize) {
-    // Chosen below, once the basis is known (reconstruction.basis).
-    plan.optimize_n = int(optimizer.Integer("n", plan.optimize_n, 1, 200));
-    plan.optimize_seed = std::uint64_t(optimizer.Integer("seed", 1, 0, LLONG_MAX));
-    plan.optimize_candidates =
-        int(optimizer.Integer("candidates", plan.optimize_candidates, 1, 1000000));
-  } else {
-    plan.directions_file = Resolve(base, directions.Required("file"));
-    RequireFile(directions, "file", plan.directions_file,
-                "give a directions TSV (acq directions optimize writes one)");
-    plan.directions = ReadDirectionsTsv(plan.directions_file);  // errors name file:line
-    if (plan.directions.empty())
-      throw UserError(directions.Where("file"), "no directions in " + plan.directions_file);
-    CheckReachable(plan.directions, plan.motion);  // names the direction's file:line and rule
-  }
-  if (!directions.Text("validation").empty()) {
-    plan.validation_file = Resolve(base, directions.Text("validation"));
-    RequireFile(directions, "validation", plan.validation_file,
-                "give a directions TSV of light/view pairs to check the result against, or "
-                "leave directions.validation out");
-    plan.validation = ReadDirectionsTsv(plan.validation_file);
-    CheckReachable(plan.validation, plan.motion);
-  }
-
-  const Section calibration =
-      top.Child("calibration", {"intrinsics_captures", "camera_model", "lensmodel", "board"});
-  if (calibration.Has("camera_model")) {
-    // The lens calibrated before (intrinsics hold while the lens and focus stay as they were).
-    if (calibration.Has("intrinsics_captures"))
-      throw UserError(calibration.Where("camera_model"),
-                      "calibration.camera_model and calibration.intrinsics_captures exclude each "
-                      "other",
-                      "give the lens's .cameramodel, or the number of board captures to "
-                      "calibrate it in this session");
-    plan.intrinsics_file = Resolve(base, calibration.Text("camera_model"));
-    RequireFile(calibration, "camera_model", plan.intrinsics_file,
-                "give a .cameramodel written by acqd or `acq calibrate intrinsics`");
-    plan.intrinsics_captures = 0;
-  } else {
-    plan.intrinsics_captures =
-        int(calibration.Integer("intrinsics_captures", plan.intrinsics_captures, 0, 1000));
-    if (plan.intrinsics_captures < 3)
-      throw UserError(calibration.Where("intrinsics_captures"),
-                      "calibration.intrinsics_captures must be at least 3",
-                      "20 to 40 is usual; or give calibration.camera_model");
-  }
-  plan.lensmodel = calibration.Text("lensmodel", plan.lensmodel);
-  plan.lensmodel_where = calibration.Where("lensmodel");
-  if (plan.lensmodel.rfind("LENSMODEL_", 0) != 0)
-    throw UserError(plan.lensmodel_where,
-                    "calibration.lensmodel '" + plan.lensmodel + "' is not an mrcal lens model",
-                    "like LENSMODEL_OPENCV4 or LENSMODEL_OPENCV8 (docs/lens-model-choice.md)");
-  const Section board = calibration.Child("board", {"size", "spacing_mm"});
-  const std::vector<int> board_size = board.Counts("size", 2, 100);
-  if (!board_size.empty()) {
-    if (board_size.size() != 2)
-      throw UserError(board.Where("size"), "calibration.board.size must be two counts >= 2",
-                      "inner corners across and down, like [10, 10]");
-    plan.board_width_n = board_size[0];
-    plan.board_height_n = board_size[1];
-  }
-  plan.board_spacing_mm = board.Number("spacing_mm", plan.board_spacing_mm);
-  if (!(plan.board_spacing_mm > 0 && plan.board_spacing_mm <= 1000))
-    throw UserError(board.Where("spacing_mm"),
-                    "calibration.board.spacing_mm must be from above 0 to 1000 mm");
+  ReadTop(top, base, &plan);
+  plan.sample = ReadSample(top);
+  plan.gantry = ReadGantry(top);
+  plan.camera = ReadCamera(top, plan.backend);
+  const std::optional<Section> optimizer = ReadDirections(top, base, &plan);
+  plan.calibration = ReadCalibration(top, base);
   plan.spectralon = top.Flag("spectralon", true);
   if (!plan.spectralon && plan.backend != Backend::kSim)
     throw UserError(top.Where("spectralon"),
                     "a real instrument needs the Spectralon captures: they measure the light "
                     "for the reconstruction",
                     "set spectralon: true");
-
-  const Section sim = top.Child("sim", {"materials", "seed", "light_intensity", "time_scale",
-                                        "operator", "image_size", "camera_model"});
-  if (plan.backend == Backend::kSim) {
-    const YAML::Node materials = root["sim"] ? root["sim"]["materials"] : YAML::Node();
-    if (!materials || !materials.IsSequence() || materials.size() == 0)
-      throw UserError(sim.Where("materials"), "the sim backend needs sim.materials",
-                      "list neural-BRDF fits (.h5) for the simulated card's inks, like "
-                      "[../data/nbrdf/merl/white-paint.h5]");
-    for (const YAML::Node& m : materials) {
-      if (!m.IsScalar())
-        throw UserError(sim.Where(m), "sim.materials must list file names, not lists or maps");
-      const std::string file = Resolve(base, m.as<std::string>());
-      if (!fs::is_regular_file(file))
-        throw UserError(sim.Where(m), "sim.materials: no such file " + file,
-                        "data/nbrdf/merl has the fits of the 100 MERL materials");
-      plan.sim_materials.push_back(file);
-    }
-  }
-  plan.sim_seed = std::uint64_t(sim.Integer("seed", 1, 0, LLONG_MAX));
-  plan.sim_light_intensity = sim.Number("light_intensity", plan.sim_light_intensity);
-  plan.sim_time_scale = sim.Number("time_scale", plan.sim_time_scale);
-  plan.sim_operator = sim.Flag("operator", plan.sim_operator);
-  if (!(plan.sim_time_scale > 0 && plan.sim_time_scale <= 1000))
-    throw UserError(sim.Where("time_scale"), "sim.time_scale must be from above 0 to 1000",
-                    "simulated seconds per wall second: 1 is real time");
-  if (!(plan.sim_light_intensity > 0))
-    throw UserError(sim.Where("light_intensity"), "sim.light_intensity must be positive");
-  const std::vector<int> image_size = sim.Counts("image_size", 16, 16384);
-  if (!image_size.empty()) {
-    if (image_size.size() != 2)
-      throw UserError(sim.Where("image_size"), "sim.image_size must be two counts",
-                      "the simulated camera's width and height in pixels, like [2048, 2048]");
-    plan.sim_image_width = image_size[0];
-    plan.sim_image_height = image_size[1];
-  }
-  if (sim.Has("camera_model")) {
-    if (sim.Has("image_size"))
-      throw UserError(sim.Where("camera_model"),
-                      "sim.camera_model and sim.image_size exclude "
-                      "each other",
-                      "a camera model has its own image size");
-    plan.sim_camera_model = Resolve(base, sim.Text("camera_model"));
-    RequireFile(sim, "camera_model", plan.sim_camera_model,
-                "give an mrcal .cameramodel for the simulated camera's lens");
-  }
-
-  const Section recon = top.Child("reconstruction", {"basis", "k", "eta", "lookup", "row_tile"});
-  plan.basis_file = Resolve(base, recon.Required("basis"));
-  RequireFile(recon, "basis", plan.basis_file, "build one with `acq basis build` (README)");
-  plan.basis_where = recon.Where("basis");
-  plan.components_where = recon.Where("k");
-  plan.components = int(recon.Integer("k", plan.components, 1, 64));
-  plan.eta = recon.Number("eta", plan.eta);
-  plan.row_tile = int(recon.Integer("row_tile", plan.row_tile, 1, 4096));
-  const std::string lookup = recon.Text("lookup", "nearest");
-  if (const std::optional<RowLookup> parsed = ParseRowLookup(lookup))
-    plan.lookup = *parsed;
-  else
-    throw UserError(recon.Where("lookup"), "reconstruction.lookup '" + lookup + "' is not known",
-                    "use nearest or interpolated");
-  if (!(plan.eta >= 0)) throw UserError(recon.Where("eta"), "reconstruction.eta must be >= 0");
-  if (optimize) optimizer.At("n", [&] { OptimizePlanDirections(&plan); });
+  plan.sim = ReadSim(root, top, base, plan.backend);
+  plan.reconstruction = ReadReconstruction(top, base);
+  if (optimizer) optimizer->At("n", [&] { OptimizePlanDirections(&plan); });
   return plan;
 }
 

@@ -19,23 +19,81 @@ namespace acq {
 enum class Backend { kSim, kUsbAravis, kReplay };
 const char* BackendName(Backend b);
 
+// Each section of the plan is a struct with its reader (plan.cpp) and a Check() of its values
+// rules; Check() throws UserError whose where() is the offending key (as spelled in the plan),
+// which the reader turns into file:line:column.
+
+struct SampleSpec {  // sample:
+  double width_mm = 70, height_mm = 70;
+  void Check() const;
+};
+
+struct GantrySpec {  // gantry:
+  UsbDeviceId usb;
+  GantryMotion motion;
+  double camera_distance_mm = 1000, light_distance_mm = 1000;
+  void Check() const;
+};
+
+struct CameraSpec {         // camera:
+  std::string id;           // Aravis device id (usb+aravis); the simulated camera's otherwise
+  CameraSettings settings;  // pixel format, gain; exposure: the bracket's first
+  std::vector<double> bracket_us;  // empty: automatic bracket
+  bool auto_bracket = false;
+  void Check() const;
+};
+
+// Calibration (docs/calibration.md): the intrinsics from this many board captures, or from a
+// lens calibrated before (intrinsics_file; then no intrinsics captures), with this mrcal lens
+// model (its name is checked against mrcal by acqd, where `lensmodel_where` points).
+struct CalibrationSpec {  // calibration:
+  int intrinsics_captures = 30;
+  std::string intrinsics_file;
+  std::string lensmodel = "LENSMODEL_OPENCV4";
+  std::string lensmodel_where;
+  int board_width_n = 10, board_height_n = 10;
+  double board_spacing_mm = 20;
+  void Check() const;
+};
+
+// backend sim: the simulated world. The sample is a printed card of these measured materials
+// (neural-BRDF fits), the light's intensity in the renderer's units, simulated time per wall
+// second; the camera a pinhole of this size framing the card, or the lens of an mrcal
+// .cameramodel (its size too).
+struct SimSpec {  // sim:
+  std::vector<std::string> materials;
+  std::uint64_t seed = 1;
+  double light_intensity = 2e5;
+  double time_scale = 10;
+  // The simulated world waits for the operator's `acqctl confirm` at every placement, as the
+  // instrument does, instead of placing items itself (the prompt path in simulation).
+  bool operator_prompts = false;  // sim.operator
+  int image_width = 320, image_height = 320;
+  std::string camera_model;
+  void Check() const;
+};
+
+struct ReconstructionSpec {  // reconstruction:
+  std::string basis_file;
+  std::string basis_where, components_where;  // file:line:column of the keys, for later checks
+  int components = 20;                        // k
+  double eta = 40;
+  RowLookup lookup = RowLookup::kNearest;
+  int row_tile = 1;  // PixelSolveOptions::row_tile
+  void Check() const;
+};
+
 struct Plan {
   std::string path;  // the plan file; relative paths in it are relative to its folder
   Backend backend = Backend::kSim;
   std::string output;          // the session directory
   std::string replay_session;  // kReplay: the recorded session served again
-  double sample_width_mm = 70, sample_height_mm = 70;
+  SampleSpec sample;
+  GantrySpec gantry;
+  CameraSpec camera;
 
-  UsbDeviceId usb;
-  GantryMotion motion;
-  double camera_distance_mm = 1000, light_distance_mm = 1000;
-
-  std::string camera_id;  // Aravis device id (usb+aravis); the simulated camera's otherwise
-  CameraSettings camera;
-  std::vector<double> bracket_us;  // empty: automatic bracket
-  bool auto_bracket = false;
-
-  std::string directions_file;  // or, optimised, what chose them
+  // directions: the sample's, from a file or, optimised, what chose them.
+  std::string directions_file;
   std::vector<Direction> directions;
   // directions.optimize: chosen at load for the basis (0: read from directions_file).
   int optimize_n = 20, optimize_candidates = 1000;
@@ -45,38 +103,10 @@ struct Plan {
   std::string validation_file;
   std::vector<Direction> validation;
 
-  // Calibration (docs/calibration.md): the intrinsics from this many board captures, or from
-  // a lens calibrated before (intrinsics_file; then no intrinsics captures), with this mrcal
-  // lens model (its name is checked against mrcal by acqd, where `lensmodel_where` points).
-  int intrinsics_captures = 30;
-  std::string intrinsics_file;
-  std::string lensmodel = "LENSMODEL_OPENCV4";
-  std::string lensmodel_where;
-  int board_width_n = 10, board_height_n = 10;
-  double board_spacing_mm = 20;
+  CalibrationSpec calibration;
   bool spectralon = true;
-
-  // backend sim: the simulated world. The sample is a printed card of these measured materials
-  // (neural-BRDF fits), the light's intensity in the renderer's units, simulated time per wall
-  // second.
-  std::vector<std::string> sim_materials;
-  std::uint64_t sim_seed = 1;
-  double sim_light_intensity = 2e5;
-  double sim_time_scale = 10;
-  // The simulated world waits for the operator's `acqctl confirm` at every placement, as the
-  // instrument does, instead of placing items itself (the prompt path in simulation).
-  bool sim_operator = false;
-  // The simulated camera: a pinhole of this size framing the card, or the lens of an mrcal
-  // .cameramodel (its size too).
-  int sim_image_width = 320, sim_image_height = 320;
-  std::string sim_camera_model;
-
-  std::string basis_file;
-  std::string basis_where, components_where;  // file:line:column of the keys, for later checks
-  int components = 20;
-  double eta = 40;
-  RowLookup lookup = RowLookup::kNearest;
-  int row_tile = 1;  // PixelSolveOptions::row_tile
+  SimSpec sim;
+  ReconstructionSpec reconstruction;
 };
 
 // Reads and validates; throws UserError ("plan.yaml:12:5: ...") at the first problem. Checks

@@ -63,9 +63,10 @@ void CheckPlanResources(const Plan& plan) {
   CheckOutputFolder(plan.output, plan.path + ": output");
   const MappedBasis mapped = [&] {
     try {
-      return MappedBasis::Open(plan.basis_file);
+      return MappedBasis::Open(plan.reconstruction.basis_file);
     } catch (const UserError& e) {
-      throw UserError(plan.basis_where, std::string("reconstruction.basis: ") + e.what(),
+      throw UserError(plan.reconstruction.basis_where,
+                      std::string("reconstruction.basis: ") + e.what(),
                       "build one with `acq basis build` (README)");
     }
   }();
@@ -73,14 +74,15 @@ void CheckPlanResources(const Plan& plan) {
   const int directions = plan.optimize_n > 0 && plan.directions.empty()
                              ? plan.optimize_n
                              : int(plan.directions.size());
-  if (plan.components > components)
-    throw UserError(plan.components_where,
-                    "reconstruction.k is " + std::to_string(plan.components) + " but the basis " +
-                        plan.basis_file + " has " + std::to_string(components) + " components",
+  if (plan.reconstruction.components > components)
+    throw UserError(plan.reconstruction.components_where,
+                    "reconstruction.k is " + std::to_string(plan.reconstruction.components) +
+                        " but the basis " + plan.reconstruction.basis_file + " has " +
+                        std::to_string(components) + " components",
                     "set reconstruction.k to at most " + std::to_string(components));
-  if (plan.components > directions)
-    throw UserError(plan.components_where,
-                    "reconstruction.k is " + std::to_string(plan.components) +
+  if (plan.reconstruction.components > directions)
+    throw UserError(plan.reconstruction.components_where,
+                    "reconstruction.k is " + std::to_string(plan.reconstruction.components) +
                         " but the plan has " + std::to_string(directions) +
                         " directions: the per-pixel solve would be "
                         "underdetermined",

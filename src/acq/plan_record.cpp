@@ -109,8 +109,8 @@ void CopyPlanFiles(const Plan& plan, const std::string& session) {
       fs::absolute(fs::path(plan.path)).parent_path().lexically_normal().string() + "\n";
   WriteFileAtomically(session + "/" + kPlanFolderFile, folder.data(), folder.size());
   std::vector<std::string> files = {plan.directions_file, plan.validation_file,
-                                    plan.intrinsics_file};
-  files.insert(files.end(), plan.sim_materials.begin(), plan.sim_materials.end());
+                                    plan.calibration.intrinsics_file};
+  files.insert(files.end(), plan.sim.materials.begin(), plan.sim.materials.end());
   std::error_code ec;
   fs::create_directories(session + "/plan_files", ec);
   for (const std::string& f : files) {
@@ -127,41 +127,43 @@ std::vector<PlanSetting> PlanSettings(const Plan& plan) {
   Settings s;
   s.Capture("backend", BackendName(plan.backend));
   if (plan.backend == Backend::kReplay) s.Capture("replay", plan.replay_session);
-  s.Capture("sample.size_mm", Numbers({plan.sample_width_mm, plan.sample_height_mm}));
-  if (plan.backend == Backend::kUsbAravis) s.Capture("gantry.usb", plan.usb.Describe());
-  const DirectionConstraints& c = plan.motion.constraints;
+  s.Capture("sample.size_mm", Numbers({plan.sample.width_mm, plan.sample.height_mm}));
+  if (plan.backend == Backend::kUsbAravis) s.Capture("gantry.usb", plan.gantry.usb.Describe());
+  const DirectionConstraints& c = plan.gantry.motion.constraints;
   s.Capture("gantry.limits", Numbers({RadToDeg(c.max_camera_zenith), RadToDeg(c.max_light_zenith),
                                       RadToDeg(c.min_separation)}));
-  const GantryMotion& m = plan.motion;
+  const GantryMotion& m = plan.gantry.motion;
   s.Capture("gantry.axes",
             Numbers({RadToDeg(m.theta.speed), RadToDeg(m.theta.acceleration), RadToDeg(m.phi.speed),
                      RadToDeg(m.phi.acceleration), m.settle_s}));
-  s.Capture("gantry.camera_distance_mm", Number(plan.camera_distance_mm));
-  s.Capture("gantry.light_distance_mm", Number(plan.light_distance_mm));
-  s.Capture("camera.id", plan.camera_id);
-  s.Capture("camera.pixel_format", PixelFormatName(plan.camera.pixel_format));
-  s.Capture("camera.gain_db", Number(plan.camera.gain_db));
-  s.Capture("camera.hdr", plan.auto_bracket ? "auto" : Numbers(plan.bracket_us));
+  s.Capture("gantry.camera_distance_mm", Number(plan.gantry.camera_distance_mm));
+  s.Capture("gantry.light_distance_mm", Number(plan.gantry.light_distance_mm));
+  s.Capture("camera.id", plan.camera.id);
+  s.Capture("camera.pixel_format", PixelFormatName(plan.camera.settings.pixel_format));
+  s.Capture("camera.gain_db", Number(plan.camera.settings.gain_db));
+  s.Capture("camera.hdr", plan.camera.auto_bracket ? "auto" : Numbers(plan.camera.bracket_us));
   s.Directions("directions", plan.directions);
   s.Directions("directions.validation", plan.validation);
-  s.Capture("calibration.intrinsics_captures", std::to_string(plan.intrinsics_captures));
-  s.Capture("calibration.board", Numbers({double(plan.board_width_n), double(plan.board_height_n),
-                                          plan.board_spacing_mm}));
+  s.Capture("calibration.intrinsics_captures",
+            std::to_string(plan.calibration.intrinsics_captures));
+  s.Capture("calibration.board",
+            Numbers({double(plan.calibration.board_width_n),
+                     double(plan.calibration.board_height_n), plan.calibration.board_spacing_mm}));
   s.Capture("spectralon", plan.spectralon ? "true" : "false");
   if (plan.backend == Backend::kSim) {
-    for (std::size_t i = 0; i < plan.sim_materials.size(); ++i)
-      s.Capture("sim.materials[" + std::to_string(i + 1) + "]", FileValue(plan.sim_materials[i]));
-    s.Capture("sim.seed", std::to_string(plan.sim_seed));
-    s.Capture("sim.light_intensity", Number(plan.sim_light_intensity));
+    for (std::size_t i = 0; i < plan.sim.materials.size(); ++i)
+      s.Capture("sim.materials[" + std::to_string(i + 1) + "]", FileValue(plan.sim.materials[i]));
+    s.Capture("sim.seed", std::to_string(plan.sim.seed));
+    s.Capture("sim.light_intensity", Number(plan.sim.light_intensity));
   }
   // Processing only: the frames stay what they are.
-  s.Processing("calibration.camera_model", FileValue(plan.intrinsics_file));
-  s.Processing("calibration.lensmodel", plan.lensmodel);
-  s.Processing("reconstruction.basis", FileValue(plan.basis_file));
-  s.Processing("reconstruction.k", std::to_string(plan.components));
-  s.Processing("reconstruction.eta", Number(plan.eta));
-  s.Processing("reconstruction.lookup", RowLookupName(plan.lookup));
-  s.Processing("reconstruction.row_tile", std::to_string(plan.row_tile));
+  s.Processing("calibration.camera_model", FileValue(plan.calibration.intrinsics_file));
+  s.Processing("calibration.lensmodel", plan.calibration.lensmodel);
+  s.Processing("reconstruction.basis", FileValue(plan.reconstruction.basis_file));
+  s.Processing("reconstruction.k", std::to_string(plan.reconstruction.components));
+  s.Processing("reconstruction.eta", Number(plan.reconstruction.eta));
+  s.Processing("reconstruction.lookup", RowLookupName(plan.reconstruction.lookup));
+  s.Processing("reconstruction.row_tile", std::to_string(plan.reconstruction.row_tile));
   return s.out;
 }
 

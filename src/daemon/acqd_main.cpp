@@ -42,24 +42,25 @@ class UsbGantry : public ProtocolGantry {
 // The simulated instrument's options, from the plan.
 sim::InstrumentOptions InstrumentOptionsOf(const Plan& plan) {
   sim::InstrumentOptions o;
-  o.material_files = plan.sim_materials;
-  o.sample_size_mm = plan.sample_width_mm;
-  o.camera_distance_mm = plan.camera_distance_mm;
-  o.light_distance_mm = plan.light_distance_mm;
-  o.light_intensity = plan.sim_light_intensity;
-  o.board = {plan.board_width_n, plan.board_height_n, plan.board_spacing_mm};
-  o.held_board_poses = plan.intrinsics_captures;
-  o.camera_model_file = plan.sim_camera_model;
-  o.image_width = plan.sim_image_width;
-  o.image_height = plan.sim_image_height;
-  o.firmware.axis = plan.motion.theta;
-  o.firmware.settle_s = plan.motion.settle_s;
-  o.firmware.limits = plan.motion.constraints;
-  o.usb.vendor_id = plan.usb.vendor_id;
-  o.usb.product_id = plan.usb.product_id;
-  o.usb.serial = plan.usb.serial.empty() ? "SIM-0001" : plan.usb.serial;
-  o.usb.time_scale = plan.sim_time_scale;
-  o.seed = plan.sim_seed;
+  o.material_files = plan.sim.materials;
+  o.sample_size_mm = plan.sample.width_mm;
+  o.camera_distance_mm = plan.gantry.camera_distance_mm;
+  o.light_distance_mm = plan.gantry.light_distance_mm;
+  o.light_intensity = plan.sim.light_intensity;
+  o.board = {plan.calibration.board_width_n, plan.calibration.board_height_n,
+             plan.calibration.board_spacing_mm};
+  o.held_board_poses = plan.calibration.intrinsics_captures;
+  o.camera_model_file = plan.sim.camera_model;
+  o.image_width = plan.sim.image_width;
+  o.image_height = plan.sim.image_height;
+  o.firmware.axis = plan.gantry.motion.theta;
+  o.firmware.settle_s = plan.gantry.motion.settle_s;
+  o.firmware.limits = plan.gantry.motion.constraints;
+  o.usb.vendor_id = plan.gantry.usb.vendor_id;
+  o.usb.product_id = plan.gantry.usb.product_id;
+  o.usb.serial = plan.gantry.usb.serial.empty() ? "SIM-0001" : plan.gantry.usb.serial;
+  o.usb.time_scale = plan.sim.time_scale;
+  o.seed = plan.sim.seed;
   o.where = plan.path;
   return o;
 }
@@ -68,9 +69,9 @@ sim::InstrumentOptions InstrumentOptionsOf(const Plan& plan) {
 // Vision (the simulated instrument's, where `instrument` is given).
 SessionDevices OpenInstrument(const Plan& plan, sim::Instrument* instrument,
                               const std::function<void(const std::string&)>& phase) {
-  UsbDeviceId usb = plan.usb;
+  UsbDeviceId usb = plan.gantry.usb;
   AravisCameraOptions camera;
-  camera.id = plan.camera_id;
+  camera.id = plan.camera.id;
   if (instrument) {
     usb.serial = instrument->usb().serial;
     camera.id = instrument->camera_address();
@@ -83,9 +84,10 @@ SessionDevices OpenInstrument(const Plan& plan, sim::Instrument* instrument,
   d.gantry_id = usb.Describe();
   if (instrument) {
     instrument->WriteGroundTruth(plan.output + "/ground_truth");
-    d.ask_operator = plan.sim_operator;
+    d.ask_operator = plan.sim.operator_prompts;
     d.place = [instrument](const Placement& p) { instrument->Place(p); };
-    d.light_intensity = instrument->LightIntensityInCounts(MaxValue(plan.camera.pixel_format));
+    d.light_intensity =
+        instrument->LightIntensityInCounts(MaxValue(plan.camera.settings.pixel_format));
   }
   return d;
 }

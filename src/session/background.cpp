@@ -1,6 +1,7 @@
 #include "session/background.h"
 
 #include "core/seconds_since.h"
+#include "session/view_correspondence.h"
 
 namespace acq {
 
@@ -44,9 +45,18 @@ void BackgroundProcessing::PoseCaptured(const std::string& dir, Step step, int p
   std::lock_guard<std::mutex> lock(mutex_);
   queue_.push_back([this, dir, step, pose, frames = std::move(frames)] {
     double seconds = 0;
-    MergePose(dir, step, pose, frames, &seconds);
-    std::lock_guard<std::mutex> done(mutex_);
-    ++poses_merged_;
+    const PoseHdr merged = MergePose(dir, step, pose, frames, &seconds);
+    {
+      std::lock_guard<std::mutex> done(mutex_);
+      ++poses_merged_;
+    }
+    // A view of the sample, once the calibration is in (the board steps come first): its
+    // correspondence map too, which the processing then reads back.
+    if (!calibration_ || ItemOf(step) != Item::kSample) return;
+    if (const BoardPoseResult* board = calibration_->PoseOf(step, pose))
+      PoseCorrespondence(dir, step, pose, *reference_,
+                         CalibratedViewOf(plan_, calibration_->camera, *board, merged.arms),
+                         &seconds);
   });
   wake_.notify_all();
 }
@@ -56,8 +66,10 @@ void BackgroundProcessing::BoardsCaptured(SessionFrames session) {
   queue_.push_back([this, session = std::move(session)] {
     double seconds = 0;
     SessionCalibration c = CalibrateSession(plan_, session, &seconds);
+    const calib::ReferenceView reference = ReferenceViewOf(plan_, c.camera);
     std::lock_guard<std::mutex> done(mutex_);
     calibration_ = std::move(c);
+    reference_ = reference;
   });
   wake_.notify_all();
 }

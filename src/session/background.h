@@ -1,9 +1,9 @@
 // Processing that overlaps the capture (issue 8): on a worker thread, each pose's HDR merge as
-// soon as its frames are in, and the calibration as soon as the board steps are captured, while
-// the gantry moves on. It writes what the processing would (hdr/, calibration/); the processing
-// then reads the merges back (pose_hdr.h reuses an up-to-date hdr file) and takes the
-// calibration as computed. A failure here is dropped: the processing meets it again and reports
-// it properly.
+// soon as its frames are in, the calibration as soon as the board steps are captured, and from
+// then on each view of the sample's correspondence map (issue 21), while the gantry moves on. It
+// writes what the processing would (hdr/, calibration/); the processing then reads the merges back
+// (pose_hdr.h reuses an up-to-date hdr file) and takes the calibration as computed. A failure here
+// is dropped: the processing meets it again and reports it properly.
 #pragma once
 
 #include <condition_variable>
@@ -15,6 +15,7 @@
 #include <thread>
 
 #include "acq/plan.h"
+#include "calib/correspondence.h"
 #include "session/pose_hdr.h"
 #include "session/session_calibration.h"
 
@@ -44,7 +45,8 @@ class BackgroundProcessing {
   std::condition_variable wake_;
   std::deque<std::function<void()>> queue_;
   bool stopping_ = false, working_ = false;
-  std::optional<SessionCalibration> calibration_;
+  std::optional<SessionCalibration> calibration_;  // set and read by the worker
+  std::optional<calib::ReferenceView> reference_;  // the calibrated camera's, with it
   double busy_s_ = 0;
   int poses_merged_ = 0;
   std::thread worker_;

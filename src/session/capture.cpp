@@ -119,7 +119,7 @@ std::string StreamAttribute(const StreamStatistics& s) {
 
 std::vector<double> RecordedBracket(const Plan& plan, const CaptureStep& step, int pose,
                                     const SessionCatalog& catalog) {
-  if (!plan.auto_bracket && step.max_auto_frames == 0) return plan.bracket_us;
+  if (!plan.camera.auto_bracket && step.max_auto_frames == 0) return plan.camera.bracket_us;
   return ParseBracketText(catalog.Decision(BracketDecisionKey(step.step, pose)));
 }
 
@@ -130,7 +130,8 @@ std::vector<double> ChooseAndRecordBracket(const Plan& plan, const CaptureStep& 
   const auto start = SteadyClock::now();
   AutoBracketOptions options;
   if (step.max_auto_frames > 0) options.max_frames = step.max_auto_frames;
-  const std::vector<double> exposures = ChooseBracket(c.camera, plan.camera, HdrOptions{}, options);
+  const std::vector<double> exposures =
+      ChooseBracket(c.camera, plan.camera.settings, HdrOptions{}, options);
   report->bracket_probe_s += SecondsSince(start);
   c.catalog.RecordDecision(BracketDecisionKey(step.step, pose), BracketText(exposures));
   return RecordedBracket(plan, step, pose, c.catalog);
@@ -158,13 +159,13 @@ std::vector<Direction> IntrinsicsDirection() {
 
 SessionVisits PlanVisits(const Plan& plan) {
   SessionVisits v;
-  v.sample = PlanShortest(plan.directions, plan.motion);
-  if (!plan.validation.empty()) v.validation = PlanShortest(plan.validation, plan.motion);
-  if (plan.intrinsics_captures > 0) {
+  v.sample = PlanShortest(plan.directions, plan.gantry.motion);
+  if (!plan.validation.empty()) v.validation = PlanShortest(plan.validation, plan.gantry.motion);
+  if (plan.calibration.intrinsics_captures > 0) {
     // The one pose, held for every capture (the moves after the first are empty).
-    const VisitPlan once = PlanShortest(v.intrinsics_direction, plan.motion);
+    const VisitPlan once = PlanShortest(v.intrinsics_direction, plan.gantry.motion);
     v.intrinsics = once;
-    for (int i = 1; i < plan.intrinsics_captures; ++i) {
+    for (int i = 1; i < plan.calibration.intrinsics_captures; ++i) {
       v.intrinsics.poses.push_back(once.poses.front());
       v.intrinsics.poses.back().move_s = 0;
     }
@@ -177,7 +178,7 @@ std::vector<CaptureStep> CaptureSteps(const Plan& plan, const SessionVisits& vis
   const bool validate = !plan.validation.empty();
   // A board needs one frame, its white squares just short of saturation: exposed for at the
   // pose whatever the plan's bracket (a grazing light leaves it too dark for a fixed one).
-  if (plan.intrinsics_captures > 0)
+  if (plan.calibration.intrinsics_captures > 0)
     steps.push_back({Step::kIntrinsics, &visits.intrinsics, &visits.intrinsics_direction, true, 1});
   steps.push_back({Step::kBoard, &visits.sample, &plan.directions, false, 1});
   if (validate)
@@ -217,11 +218,11 @@ CaptureReport Capture(const Plan& plan, const CaptureStep& step, CaptureContext&
     if (c.poses_taken > 0)
       status.eta_s = SecondsSince(c.started) / c.poses_taken * (c.poses_total - c.poses_done);
     ++c.poses_taken;
-    report.operator_s += Place(c, step.PlacementAt(i), plan.intrinsics_captures);
+    report.operator_s += Place(c, step.PlacementAt(i), plan.calibration.intrinsics_captures);
     status.step = where + ": moving";
     SafePoint(c);
     const auto move_start = SteadyClock::now();
-    MoveAndWait(c.gantry, pose.arms, plan.motion.SlowestAxis(), plan.motion.settle_s);
+    MoveAndWait(c.gantry, pose.arms, plan.gantry.motion.SlowestAxis(), plan.gantry.motion.settle_s);
     report.motion_s += SecondsSince(move_start);
     const GantryStatus arrived = c.gantry.Status();
     const ArmAngles& m = arrived.measured;
@@ -240,7 +241,7 @@ CaptureReport Capture(const Plan& plan, const CaptureStep& step, CaptureContext&
       status.step =
           where + ", exposure " + std::to_string(e + 1) + " of " + std::to_string(bracket.size());
       SafePoint(c);
-      CameraSettings settings = plan.camera;
+      CameraSettings settings = plan.camera.settings;
       settings.exposure_us = t;
       c.camera.Apply(settings);
       const auto grab_start = SteadyClock::now();

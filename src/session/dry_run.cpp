@@ -46,16 +46,16 @@ std::string Schedule(const Plan& plan, const SessionVisits& visits, double* tota
   // Per pose: the bracket's exposures and each frame's overhead; an automatic choice adds two
   // probe frames (a 5-frame bracket of 2-stop steps from ~1 ms is about 0.35 s of exposure).
   double bracket_s = 0;
-  for (double t : plan.bracket_us) bracket_s += t / 1e6;
-  const std::size_t bracket = plan.auto_bracket ? 5 : plan.bracket_us.size();
-  if (plan.auto_bracket) bracket_s = 0.35;
+  for (double t : plan.camera.bracket_us) bracket_s += t / 1e6;
+  const std::size_t bracket = plan.camera.auto_bracket ? 5 : plan.camera.bracket_us.size();
+  if (plan.camera.auto_bracket) bracket_s = 0.35;
   std::string out = "schedule (an operator prompt before each new item; `acqctl confirm`):\n";
   out += "  home the gantry\n";
   for (const CaptureStep& step : CaptureSteps(plan, visits)) {
     const bool board = step.max_auto_frames > 0;
     const std::size_t poses = step.visit->poses.size();
     const std::size_t frames = board ? 1 : bracket;
-    const int probes = board || plan.auto_bracket ? 2 : 0;
+    const int probes = board || plan.camera.auto_bracket ? 2 : 0;
     const double frames_s =
         double(poses) * ((board ? 0.03 : bracket_s) + double(frames + probes) * kFrameOverheadS);
     const std::string item = ToString(Placement{ItemOf(step.step), 0}) +
@@ -72,10 +72,10 @@ std::string Schedule(const Plan& plan, const SessionVisits& visits, double* tota
 
 void CheckSessionInputs(const Plan& plan) {
   CheckPlanResources(plan);  // the basis, the output folder
-  calib::ParseLensModel(plan.lensmodel, plan.lensmodel_where);
-  if (plan.intrinsics_file.empty()) return;
+  calib::ParseLensModel(plan.calibration.lensmodel, plan.calibration.lensmodel_where);
+  if (plan.calibration.intrinsics_file.empty()) return;
   try {
-    calib::CameraModel::Read(plan.intrinsics_file);
+    calib::CameraModel::Read(plan.calibration.intrinsics_file);
   } catch (const UserError& e) {
     throw UserError(plan.path + ": calibration.camera_model", e.what(),
                     "give a .cameramodel written by acqd or `acq calibrate intrinsics`");
@@ -87,10 +87,11 @@ std::string DryRunText(const Plan& plan) {
   Append(&out, "plan %s: backend %s, session directory %s\n", plan.path.c_str(),
          BackendName(plan.backend), plan.output.c_str());
   Append(&out, "sample %.0f x %.0f mm; %zu directions from %s; basis %s (k = %d)\n\n",
-         plan.sample_width_mm, plan.sample_height_mm, plan.directions.size(),
-         plan.directions_file.c_str(), plan.basis_file.c_str(), plan.components);
+         plan.sample.width_mm, plan.sample.height_mm, plan.directions.size(),
+         plan.directions_file.c_str(), plan.reconstruction.basis_file.c_str(),
+         plan.reconstruction.components);
   const SessionVisits visits = PlanVisits(plan);
-  const VisitPlan naive = PlanInFileOrder(plan.directions, plan.motion);
+  const VisitPlan naive = PlanInFileOrder(plan.directions, plan.gantry.motion);
   out += VisitingOrder(plan, visits.sample) + "\n";
   double total_s = 0;
   out += Schedule(plan, visits, &total_s);

@@ -20,6 +20,7 @@
 #include "hw/frame_file.h"
 #include "io/float_planes_exr.h"
 #include "session/pose_hdr.h"
+#include "session/view_correspondence.h"
 
 namespace acq {
 namespace {
@@ -45,7 +46,7 @@ std::vector<SessionView> ViewsOf(const Plan& plan, Step step, Step spectralon_st
   const std::map<int, PoseHdr> spectralon =
       plan.spectralon ? MergeStep(spectralon_step, session, &report->hdr_s)
                       : std::map<int, PoseHdr>();
-  const auto start = SteadyClock::now();
+  double correspondence_s = 0;
   std::vector<SessionView> views;
   for (const auto& [pose, p] : sample) {
     const BoardPoseResult* board = calibration.PoseOf(step, pose);
@@ -53,19 +54,13 @@ std::vector<SessionView> ViewsOf(const Plan& plan, Step step, Step spectralon_st
       report->views_left_out.push_back(PoseName(step, pose));
       continue;
     }
-    const Eigen::Vector3d light =
-        calib::ArmPositionInSample(p.arms.light_theta, p.arms.light_phi, plan.light_distance_mm);
-    // Where pixels land: the board's pose; where the camera is: its arm (the view directions).
-    const calib::CalibratedView calibrated{
-        calibration.camera, board->cam_from_sample, light,
-        calib::ArmPositionInSample(p.arms.camera_theta, p.arms.camera_phi,
-                                   plan.camera_distance_mm)};
+    const calib::CalibratedView calibrated =
+        CalibratedViewOf(plan, calibration.camera, *board, p.arms);
     SessionView view;
     view.name = p.direction.empty() ? PoseName(step, pose) : p.direction;
     view.pose = pose;
-    view.correspondence = calib::ComputeCorrespondence(reference, calibrated);
-    WriteFloatPlanesExr(session.dir + "/correspondence/" + PoseName(step, pose) + ".exr",
-                        view.correspondence);
+    view.correspondence =
+        PoseCorrespondence(session.dir, step, pose, reference, calibrated, &correspondence_s);
     view.sample = Channels(p.hdr);
     if (plan.spectralon) {
       const auto s = spectralon.find(pose);
@@ -74,11 +69,11 @@ std::vector<SessionView> ViewsOf(const Plan& plan, Step step, Step spectralon_st
                         "run acqd again with the same plan to capture what is missing");
       view.spectralon = Channels(s->second.hdr);
     }
-    view.light_in_sample_mm = light;
+    view.light_in_sample_mm = calibrated.light_in_sample_mm;
     view.light_intensity = geometry.light_intensity;
     views.push_back(std::move(view));
   }
-  report->correspondence_s += SecondsSince(start);
+  report->correspondence_s += correspondence_s;
   return views;
 }
 
@@ -118,23 +113,9 @@ ProcessReport ProcessSession(const Plan& plan, SessionCatalog& catalog,
   }
   const calib::CameraModel& camera = report.calibration.camera;
 
-  // The reference view, the pixel grid the maps are on: the calibrated camera straight above
-  // the sample centre (in the frame the board defined), cropped to the sample.
-  calib::ReferenceView reference;
-  reference.camera = camera;
-  reference.cam_from_sample = calib::CamFromSampleLookingAtCentre({0, 0, plan.camera_distance_mm});
-  report.pixel_size_mm = plan.camera_distance_mm / camera.intrinsics()[0];
-  const int w = camera.width(), h = camera.height();
-  reference.width = std::min(w, int(plan.sample_width_mm / report.pixel_size_mm));
-  reference.height = std::min(h, int(plan.sample_height_mm / report.pixel_size_mm));
-  // Centred on the sample's centre as the calibrated camera sees it: its principal point is
-  // not the image centre, and pixels off the sample would be reconstructions of the cloth.
-  const Eigen::Vector2d centre =
-      camera.Project(reference.cam_from_sample * Eigen::Vector3d::Zero());
-  reference.x0 = std::clamp(int(std::lround(centre.x() - reference.width / 2.0 + 0.5)), 0,
-                            w - reference.width);
-  reference.y0 = std::clamp(int(std::lround(centre.y() - reference.height / 2.0 + 0.5)), 0,
-                            h - reference.height);
+  // The reference view, the pixel grid the maps are on.
+  const calib::ReferenceView reference = ReferenceViewOf(plan, camera);
+  report.pixel_size_mm = plan.gantry.camera_distance_mm / camera.intrinsics()[0];
   report.reference_width = reference.width;
   report.reference_height = reference.height;
   report.sample_points = calib::SamplePoints(reference);
@@ -145,15 +126,15 @@ ProcessReport ProcessSession(const Plan& plan, SessionCatalog& catalog,
 
   start = SteadyClock::now();
   CorrespondenceSource source(std::move(views), report.pixel_size_mm);
-  const MappedBasis mapped = MappedBasis::Open(plan.basis_file);
+  const MappedBasis mapped = MappedBasis::Open(plan.reconstruction.basis_file);
   ReconstructionOptions options;
-  options.solve.components = plan.components;
-  options.solve.eta = plan.eta;
-  options.solve.lookup = plan.lookup;
-  options.solve.row_tile = plan.row_tile;
+  options.solve.components = plan.reconstruction.components;
+  options.solve.eta = plan.reconstruction.eta;
+  options.solve.lookup = plan.reconstruction.lookup;
+  options.solve.row_tile = plan.reconstruction.row_tile;
   options.progress = false;
   SvbrdfMapInfo info;
-  info.basis = plan.basis_file;
+  info.basis = plan.reconstruction.basis_file;
   info.basis_crc32 = mapped.Checksum();
   info.camera_model = dir + "/calibration/camera.cameramodel";
   report.reconstruction = Reconstruct(mapped.View(), source, options, info, dir + "/svbrdf.exr");
@@ -171,7 +152,7 @@ ProcessReport ProcessSession(const Plan& plan, SessionCatalog& catalog,
     // in the numbers, never shifts the names of the others.
     const std::string render = "renders/" + PoseName(Step::kValidation, checks[i].pose) + ".png";
     const ValidationResult r =
-        CompareWithCapture(map, mapped.View(), std::move(checks[i]), plan.lookup);
+        CompareWithCapture(map, mapped.View(), std::move(checks[i]), plan.reconstruction.lookup);
     ValidationSummary s{name, r.pixels, r.relative_rms, r.median_relative, render};
     WriteComparison(r, dir + "/" + s.render);
     report.validation.push_back(s);

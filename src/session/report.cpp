@@ -53,7 +53,11 @@ std::string SessionReport::Json() const {
                  {"scoring", scoring_s},
                  {"planning", planning_s},
                  {"daemon_overhead", OverheadS()}};
-  j["frames"] = {{"taken", capture.frames_taken}, {"already_there", capture.frames_skipped}};
+  j["time_s"]["after_capture"] = after_capture_s;
+  j["frames"] = {{"taken", capture.frames_taken},
+                 {"already_there", capture.frames_skipped},
+                 {"incomplete", incomplete_frames},
+                 {"retaken", retaken_frames}};
   j["map"] = {{"file", "svbrdf.exr"},
               {"width", p.reference_width},
               {"height", p.reference_height},
@@ -138,8 +142,11 @@ std::string SessionReport::Text() const {
                   "s of its time)\n",
                   background_poses, background_busy_s);
     t << line;
-    std::snprintf(line, sizeof line, "\nframes: %d taken, %d already there\n", capture.frames_taken,
-                  capture.frames_skipped);
+    std::snprintf(line, sizeof line,
+                  "  (from the last frame to the processed session: %.2f s)\n"
+                  "\nframes: %d taken, %d already there; %ld arrived incomplete, %ld retaken\n",
+                  after_capture_s, capture.frames_taken, capture.frames_skipped, incomplete_frames,
+                  retaken_frames);
     t << line;
   } else {
     t << "\nframes: as captured, none taken\n";

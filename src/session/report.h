@@ -28,6 +28,12 @@ struct SessionReport {
   // of the breakdown), the poses it merged, and the wait for what it had left at the end.
   double background_busy_s = 0, background_wait_s = 0;
   int background_poses = 0;
+  // From the last frame to the session processed (the map and its validation renders; the
+  // scoring not included): what the capture's overlap with processing leaves to wait for.
+  double after_capture_s = 0;
+  // The camera's stream over this run: frames that arrived incomplete (and were taken again)
+  // and frames retaken.
+  long incomplete_frames = 0, retaken_frames = 0;
   ProcessReport process;
   // The simulated instrument only: the map against the card's true materials, and the
   // homogeneous result for the same materials and directions (Yu et al. / NJR15 evaluation).

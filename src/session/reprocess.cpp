@@ -85,7 +85,9 @@ void CopySession(const std::string& from_dir, const SessionCatalog& catalog, con
       LinkOrCopy(e.path(), dst / "frames" / e.path().filename());
   catalog.CopyTo(to);
   std::vector<std::string> copied = PlanRecordFiles();
-  copied.insert(copied.end(), {"directions.tsv", "ground_truth"});
+  // The correspondence maps record their inputs (view_correspondence.h): copied, each is reused
+  // where the calibration comes out as it was and computed again where it does not.
+  copied.insert(copied.end(), {"directions.tsv", "ground_truth", "correspondence"});
   if (from > ProcessStage::kHdr) copied.push_back("hdr");
   if (from > ProcessStage::kCalibration) copied.push_back("calibration");
   for (const std::string& name : copied)

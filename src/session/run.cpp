@@ -55,7 +55,7 @@ std::optional<SessionCalibration> CaptureAll(const Plan& plan, SessionDevices& d
                                              const Phase& phase) {
   phase("homing");
   HomeAndWait(*devices.gantry,
-              HomingTimeoutSeconds(plan.motion.SlowestAxis(), plan.motion.settle_s));
+              HomingTimeoutSeconds(plan.gantry.motion.SlowestAxis(), plan.gantry.motion.settle_s));
   phase("planning the visiting order");
   const auto planning_start = SteadyClock::now();
   const SessionVisits visits = PlanVisits(plan);
@@ -76,6 +76,9 @@ std::optional<SessionCalibration> CaptureAll(const Plan& plan, SessionDevices& d
   for (const CaptureStep& step : steps) context.poses_total += int(step.visit->poses.size());
   for (const CaptureStep& step : steps) report->capture += Capture(plan, step, context);
   devices.gantry->SetLight(false, 0);
+  const StreamStatistics stream = devices.camera->Statistics();
+  report->incomplete_frames = long(stream.incomplete);
+  report->retaken_frames = long(stream.retakes);
   const CaptureReport& r = report->capture;
   catalog.Event("info", "captured: " + std::to_string(r.frames_taken) + " frames taken, " +
                             std::to_string(r.frames_skipped) + " already there");
@@ -112,10 +115,13 @@ void CaptureAndProcess(const Plan& plan, const SessionHooks& hooks, SessionDevic
   catalog.Event("info", "session started (" + std::string(BackendName(plan.backend)) + ")");
   std::optional<SessionCalibration> calibrated =
       CaptureAll(plan, devices, catalog, control, status, report, phase);
+  // After CaptureAll, which waited background_wait_s for the overlapped work.
+  const auto captured = SteadyClock::now();
   RecordLightIntensity(devices.light_intensity, catalog);
   ThrowIfStopRequested();
   phase("processing: HDR merge, calibration, correspondence, reconstruction, validation");
   report->process = ProcessSession(plan, catalog, {devices.light_intensity}, std::move(calibrated));
+  report->after_capture_s = report->background_wait_s + SecondsSince(captured);
   if (hooks.score) {
     phase("scoring against the ground truth");
     const auto scoring_start = SteadyClock::now();

@@ -44,7 +44,8 @@ cv::Mat ToneMapped(const HdrImage& hdr) {
 }
 
 calib::BoardSpec BoardOf(const Plan& plan) {
-  return {plan.board_width_n, plan.board_height_n, plan.board_spacing_mm};
+  return {plan.calibration.board_width_n, plan.calibration.board_height_n,
+          plan.calibration.board_spacing_mm};
 }
 
 // Detects the board in every pose of `step`, each observation named after its pose.
@@ -68,7 +69,7 @@ void Intrinsics(const Plan& plan, const std::string& dir, const std::map<int, Po
                     "run acqd again with the same plan to capture them");
   const HdrImage& any = held.begin()->second.hdr;
   calib::IntrinsicsOptions options;
-  options.lensmodel = plan.lensmodel;
+  options.lensmodel = plan.calibration.lensmodel;
   const calib::IntrinsicsSolution solution = [&] {
     try {
       return calib::SolveIntrinsics(any.width, any.height, BoardOf(plan), obs, options);
@@ -101,8 +102,8 @@ void Intrinsics(const Plan& plan, const std::string& dir, const std::map<int, Po
 
 // The pose the arms' kinematics predict (the camera at its arm's end, looking at the centre).
 calib::Pose KinematicPose(const Plan& plan, const ArmAngles& arms) {
-  return calib::CamFromSampleLookingAtCentre(
-      calib::ArmPositionInSample(arms.camera_theta, arms.camera_phi, plan.camera_distance_mm));
+  return calib::CamFromSampleLookingAtCentre(calib::ArmPositionInSample(
+      arms.camera_theta, arms.camera_phi, plan.gantry.camera_distance_mm));
 }
 
 void Extrinsics(const Plan& plan, const calib::BoardSpec& board, Step step,
@@ -172,14 +173,14 @@ SessionCalibration CalibrateSession(const Plan& plan, const SessionFrames& sessi
   const calib::BoardSpec board = BoardOf(plan);
   SessionCalibration c;
   std::vector<calib::BoardObservation> all;
-  if (plan.intrinsics_captures > 0) {
+  if (plan.calibration.intrinsics_captures > 0) {
     const std::map<int, PoseHdr> held = MergeStep(Step::kIntrinsics, session, hdr_seconds);
     const std::vector<calib::BoardObservation> obs = Detect(held, Step::kIntrinsics, board);
     all.insert(all.end(), obs.begin(), obs.end());
     Intrinsics(plan, dir, held, obs, &c);
   } else {
-    c.camera = calib::CameraModel::Read(plan.intrinsics_file);
-    c.intrinsics_from = plan.intrinsics_file;
+    c.camera = calib::CameraModel::Read(plan.calibration.intrinsics_file);
+    c.intrinsics_from = plan.calibration.intrinsics_file;
   }
   c.camera.Write(dir + "/calibration/camera.cameramodel");
   for (const Step step : {Step::kBoard, Step::kBoardValidation}) {

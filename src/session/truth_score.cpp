@@ -20,8 +20,8 @@ namespace {
 // homogeneous result for the same materials at the same directions.
 void ScoreMapAgainstTruth(const Plan& plan, const std::string& dir,
                           const sim::GroundTruthFiles& truth_files, SessionReport* report) {
-  const MappedBasis mapped = MappedBasis::Open(plan.basis_file);
-  const std::vector<MerlBrdf> truth = sim::LuminanceTables(plan.sim_materials);
+  const MappedBasis mapped = MappedBasis::Open(plan.reconstruction.basis_file);
+  const std::vector<MerlBrdf> truth = sim::LuminanceTables(plan.sim.materials);
   std::vector<int> labels;
   labels.reserve(report->process.sample_points.size());
   for (const Eigen::Vector3d& p : report->process.sample_points)
@@ -38,8 +38,9 @@ void ScoreMapAgainstTruth(const Plan& plan, const std::string& dir,
   report->homogeneous_log_rmse.clear();
   for (const MerlBrdf& m : truth) {
     double sum = 0;
-    for (const ChannelError& e :
-         EvaluateHomogeneous(mapped.View(), m, bins, RidgeOptions{plan.components, plan.eta})) {
+    for (const ChannelError& e : EvaluateHomogeneous(
+             mapped.View(), m, bins,
+             RidgeOptions{plan.reconstruction.components, plan.reconstruction.eta})) {
       homogeneous.push_back(e.log_rmse);
       sum += e.log_rmse / 3;
     }
@@ -60,12 +61,12 @@ void ScoreCalibration(const Plan& plan, const calib::CameraModel& true_camera,
   for (const BoardPoseResult& b : c.boards) {
     if (!b.found || !b.arms_known) continue;
     const calib::Pose truth =
-        sim::ViewFromArms(b.arms, plan.camera_distance_mm, plan.light_distance_mm, 1)
+        sim::ViewFromArms(b.arms, plan.gantry.camera_distance_mm, plan.gantry.light_distance_mm, 1)
             .cam_from_sample;
     for (int i = 0; i <= 4; ++i)
       for (int j = 0; j <= 4; ++j) {
-        const Eigen::Vector3d p((i / 4.0 - 0.5) * plan.sample_width_mm,
-                                (j / 4.0 - 0.5) * plan.sample_height_mm, 0);
+        const Eigen::Vector3d p((i / 4.0 - 0.5) * plan.sample.width_mm,
+                                (j / 4.0 - 0.5) * plan.sample.height_mm, 0);
         const Eigen::Vector2d a = c.camera.Project(b.cam_from_sample * p);
         const Eigen::Vector2d t = true_camera.Project(truth * p);
         misalignment.push_back((a - t).norm());
