@@ -96,7 +96,11 @@ SessionCatalog::SessionCatalog(const std::string& session_dir)
   std::error_code ec;
   fs::create_directories(fs::path(session_dir) / "frames", ec);
   if (ec) throw UserError(session_dir, "cannot create the session directory: " + ec.message());
-  if (sqlite3_open(path_.c_str(), &db_) != SQLITE_OK) {
+  // Serialized: the frame writer records frames on its own thread (session/frame_writer.h)
+  // while the capture's thread reads decisions and writes events on this connection.
+  if (sqlite3_open_v2(path_.c_str(), &db_,
+                      SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE | SQLITE_OPEN_FULLMUTEX,
+                      nullptr) != SQLITE_OK) {
     const std::string why = db_ ? sqlite3_errmsg(db_) : "out of memory";
     sqlite3_close(db_);
     db_ = nullptr;

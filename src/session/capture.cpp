@@ -193,87 +193,115 @@ std::vector<CaptureStep> CaptureSteps(const Plan& plan, const SessionVisits& vis
   return steps;
 }
 
+namespace {
+
+// A pose the gantry holds: where it was commanded and where it arrived.
+struct HeldPose {
+  const PlannedPose& planned;
+  std::size_t index;  // in the step's visiting order
+  GantryStatus arrived;
+};
+
+// Takes one exposure of the bracket at the pose the gantry holds: the frame written atomically
+// into the session with its metadata, then recorded in the catalog.
+void TakeFrame(const Plan& plan, const CaptureStep& step, const HeldPose& pose, double t,
+               const std::vector<double>& bracket, CaptureContext& c, CaptureReport* report) {
+  CameraSettings settings = plan.camera.settings;
+  settings.exposure_us = t;
+  c.camera.Apply(settings);
+  const auto grab_start = SteadyClock::now();
+  Frame frame = c.camera.Grab();
+  const double grab_s = SecondsSince(grab_start);
+  // The grab's wall time split into the exposure and the rest (trigger, readout, transfer). A
+  // simulated camera renders at once, whatever the exposure: there the grab can be shorter than
+  // the exposure, and only the time spent is counted.
+  const double exposing_s = std::min(grab_s, t / 1e6);
+  report->exposure_s += exposing_s;
+  report->transfer_s += grab_s - exposing_s;
+  const int i = int(pose.index);
+  const std::string name = FrameFileName(step.step, i, t);
+  const StreamStatistics stats = c.camera.Statistics();
+  // Written and recorded by the writer while the gantry moves on (frame_writer.h).
+  c.writer.Write(std::move(frame),
+                 {{"step", ToString(step.step)},
+                  {"pose", std::to_string(i)},
+                  {"direction", (*step.directions)[pose.planned.index].where},
+                  {"arms_commanded_deg", ArmAnglesAttribute(pose.planned.arms)},
+                  {"arms_measured_deg", ArmAnglesAttribute(pose.arrived.measured)},
+                  {"camera", c.camera.Describe()},
+                  {"gantry", c.gantry_id},
+                  {"stream", StreamAttribute(stats)},
+                  {"grab_s", std::to_string(grab_s)},
+                  {"bracket_us", BracketText(bracket)}},
+                 {step.step, i, t, name, "", 0});
+  ++report->frames_taken;
+  ++c.status.frames;
+  c.status.incomplete_frames = long(stats.incomplete);
+  c.status.retransmissions = c.gantry.retransmissions();
+}
+
+// Places the pose's item, moves there and takes the exposures of `bracket` not in the session
+// (chosen now where it is empty, an automatic bracket).
+void CapturePose(const Plan& plan, const CaptureStep& step, std::size_t i,
+                 std::vector<double> bracket, CaptureContext& c, CaptureReport* report) {
+  SessionStatus& status = c.status;
+  const std::vector<PlannedPose>& poses = step.visit->poses;
+  const std::string where = std::string(ToString(step.step)) + " pose " + std::to_string(i + 1) +
+                            " of " + std::to_string(poses.size());
+  report->operator_s += Place(c, step.PlacementAt(i), plan.calibration.intrinsics_captures);
+  status.step = where + ": moving";
+  SafePoint(c);
+  const auto move_start = SteadyClock::now();
+  MoveAndWait(c.gantry, poses[i].arms, plan.gantry.motion.SlowestAxis(),
+              plan.gantry.motion.settle_s);
+  report->motion_s += SecondsSince(move_start);
+  const HeldPose pose{poses[i], i, c.gantry.Status()};
+  const ArmAngles& m = pose.arrived.measured;
+  const double arms[4] = {m.light_theta, m.light_phi, m.camera_theta, m.camera_phi};
+  for (int a = 0; a < 4; ++a) status.arms_deg[a] = RadToDeg(arms[a]);
+  status.step = where + ": choosing the exposures";
+  SafePoint(c);
+  if (bracket.empty()) bracket = ChooseAndRecordBracket(plan, step, int(i), c, report);
+  for (std::size_t e = 0; e < bracket.size(); ++e) {
+    if (c.catalog.HasFrame(step.step, int(i), bracket[e])) {
+      ++report->frames_skipped;
+      ++status.frames;
+      continue;
+    }
+    status.step =
+        where + ", exposure " + std::to_string(e + 1) + " of " + std::to_string(bracket.size());
+    SafePoint(c);
+    TakeFrame(plan, step, pose, bracket[e], bracket, c, report);
+  }
+}
+
+}  // namespace
+
 CaptureReport Capture(const Plan& plan, const CaptureStep& step, CaptureContext& c) {
-  namespace fs = std::filesystem;
   CaptureReport report;
   SessionStatus& status = c.status;
   status.state = DaemonState::kRunning;
   const std::vector<PlannedPose>& poses = step.visit->poses;
   for (std::size_t i = 0; i < poses.size(); ++i, ++c.poses_done) {
-    const PlannedPose& pose = poses[i];
-    const std::string where = std::string(ToString(step.step)) + " pose " + std::to_string(i + 1) +
-                              " of " + std::to_string(poses.size());
     status.progress = c.poses_total > 0 ? double(c.poses_done) / c.poses_total : 0;
     // Empty for an automatic bracket not chosen yet: the pose is not done.
-    std::vector<double> bracket = RecordedBracket(plan, step, int(i), c.catalog);
+    const std::vector<double> bracket = RecordedBracket(plan, step, int(i), c.catalog);
     bool done = !bracket.empty();
     for (double t : bracket) done = done && c.catalog.HasFrame(step.step, int(i), t);
     if (done) {
       report.frames_skipped += int(bracket.size());
       status.frames += long(bracket.size());
-      if (c.pose_captured) c.pose_captured(step.step, int(i));
-      continue;
+    } else {
+      // The capture's ETA from this run's pace over the poses it took (not those it skipped).
+      if (c.poses_taken > 0)
+        status.eta_s = SecondsSince(c.started) / c.poses_taken * (c.poses_total - c.poses_done);
+      ++c.poses_taken;
+      CapturePose(plan, step, i, bracket, c, &report);
     }
-    // The capture's ETA from this run's pace over the poses it took (not those it skipped).
-    if (c.poses_taken > 0)
-      status.eta_s = SecondsSince(c.started) / c.poses_taken * (c.poses_total - c.poses_done);
-    ++c.poses_taken;
-    report.operator_s += Place(c, step.PlacementAt(i), plan.calibration.intrinsics_captures);
-    status.step = where + ": moving";
-    SafePoint(c);
-    const auto move_start = SteadyClock::now();
-    MoveAndWait(c.gantry, pose.arms, plan.gantry.motion.SlowestAxis(), plan.gantry.motion.settle_s);
-    report.motion_s += SecondsSince(move_start);
-    const GantryStatus arrived = c.gantry.Status();
-    const ArmAngles& m = arrived.measured;
-    const double arms[4] = {m.light_theta, m.light_phi, m.camera_theta, m.camera_phi};
-    for (int a = 0; a < 4; ++a) status.arms_deg[a] = RadToDeg(arms[a]);
-    status.step = where + ": choosing the exposures";
-    SafePoint(c);
-    if (bracket.empty()) bracket = ChooseAndRecordBracket(plan, step, int(i), c, &report);
-    for (std::size_t e = 0; e < bracket.size(); ++e) {
-      const double t = bracket[e];
-      if (c.catalog.HasFrame(step.step, int(i), t)) {
-        ++report.frames_skipped;
-        ++status.frames;
-        continue;
-      }
-      status.step =
-          where + ", exposure " + std::to_string(e + 1) + " of " + std::to_string(bracket.size());
-      SafePoint(c);
-      CameraSettings settings = plan.camera.settings;
-      settings.exposure_us = t;
-      c.camera.Apply(settings);
-      const auto grab_start = SteadyClock::now();
-      const Frame frame = c.camera.Grab();
-      const double grab_s = SecondsSince(grab_start);
-      // The grab's wall time split into the exposure and the rest (trigger, readout,
-      // transfer). A simulated camera renders at once, whatever the exposure: there the grab
-      // can be shorter than the exposure, and only the time spent is counted.
-      const double exposing_s = std::min(grab_s, t / 1e6);
-      report.exposure_s += exposing_s;
-      report.transfer_s += grab_s - exposing_s;
-      const std::string name = FrameFileName(step.step, int(i), t);
-      const StreamStatistics stats = c.camera.Statistics();
-      WriteFrameExr((fs::path(c.catalog.directory()) / name).string(), frame,
-                    {{"step", ToString(step.step)},
-                     {"pose", std::to_string(i)},
-                     {"direction", (*step.directions)[pose.index].where},
-                     {"arms_commanded_deg", ArmAnglesAttribute(pose.arms)},
-                     {"arms_measured_deg", ArmAnglesAttribute(arrived.measured)},
-                     {"camera", c.camera.Describe()},
-                     {"gantry", c.gantry_id},
-                     {"stream", StreamAttribute(stats)},
-                     {"grab_s", std::to_string(grab_s)},
-                     {"bracket_us", BracketText(bracket)}});
-      c.catalog.RecordFrame({step.step, int(i), t, name, "", 0});
-      ++report.frames_taken;
-      ++status.frames;
-      status.incomplete_frames = long(stats.incomplete);
-      status.retransmissions = c.gantry.retransmissions();
-    }
-    if (c.pose_captured) c.pose_captured(step.step, int(i));
+    if (c.pose_captured)
+      c.writer.After([&c, s = step.step, pose = int(i)] { c.pose_captured(s, pose); });
   }
+  c.writer.Flush();  // the step's frames all recorded before it is marked done
   c.catalog.MarkStepDone(step.step);
   if (c.step_captured) c.step_captured(step.step);
   status.step = std::string(ToString(step.step)) + " captured";

@@ -28,6 +28,7 @@
 #include "hw/camera.h"
 #include "hw/gantry.h"
 #include "io/session_catalog.h"
+#include "session/frame_writer.h"
 #include "session/status.h"
 
 namespace acq {
@@ -74,6 +75,7 @@ struct CaptureContext {
   Gantry& gantry;
   Camera& camera;
   SessionCatalog& catalog;
+  FrameWriter& writer;     // every frame goes into the session through it
   StatusChannel& control;  // acqd: its control socket
   SessionStatus& status;
   std::string gantry_id;  // recorded with every frame
@@ -83,8 +85,9 @@ struct CaptureContext {
   std::function<void(const Placement&)> place;
   std::optional<Placement> placed;  // known to be under the gantry (none after a restart)
   int prompts_shown = 0;            // operator prompts shown by this run: the next one's id
-  // Told when a pose's frames are all in the session (taken now or before), and when a step is
-  // captured: processing that can start then (background.h).
+  // Told when a pose's frames are all in the session (taken now or before; on the writer's
+  // thread, once they are recorded), and when a step is captured (on the capture's thread, its
+  // frames all recorded): processing that can start then (background.h).
   std::function<void(Step step, int pose)> pose_captured;
   std::function<void(Step step)> step_captured;
   int poses_done = 0, poses_total = 0;  // for the progress over the whole session

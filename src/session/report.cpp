@@ -45,6 +45,7 @@ std::string SessionReport::Json() const {
                  {"operator", capture.operator_s},
                  {"background_wait", background_wait_s},
                  {"background_busy", background_busy_s},
+                 {"frame_writer_busy", writer_busy_s},
                  {"hdr_merge", p.hdr_s},
                  {"calibration", p.calibration_s},
                  {"correspondence", p.correspondence_s},
@@ -102,55 +103,58 @@ std::string SessionReport::Json() const {
   return j.dump(2, ' ', false, Json::error_handler_t::replace) + "\n";
 }
 
-std::string SessionReport::Text() const {
-  const ProcessReport& p = process;
-  const ReconstructionReport& r = p.reconstruction;
+namespace {
+
+// Where the time went, and the frames.
+std::string TimeText(const SessionReport& s) {
+  const ProcessReport& p = s.process;
   std::ostringstream t;
-  char line[256];
-  t << "session " << session << " (plan " << plan << ", backend " << backend << ")\n\n";
-  t << "where the time went (" << wall_s << " s in all):\n";
+  char line[512];
+  t << "where the time went (" << s.wall_s << " s in all):\n";
   struct Row {
     const char* what;
     double s;
     bool processing;  // a stage `acq session process` runs too
   };
-  const Row rows[] = {{"motion and settling", capture.motion_s, false},
-                      {"exposure", capture.exposure_s, false},
-                      {"transfer", capture.transfer_s, false},
-                      {"choosing brackets (probes)", capture.bracket_probe_s, false},
-                      {"waiting for the operator", capture.operator_s, false},
-                      {"finishing the overlapped work", background_wait_s, false},
+  const CaptureReport& c = s.capture;
+  const Row rows[] = {{"motion and settling", c.motion_s, false},
+                      {"exposure", c.exposure_s, false},
+                      {"transfer", c.transfer_s, false},
+                      {"choosing brackets (probes)", c.bracket_probe_s, false},
+                      {"waiting for the operator", c.operator_s, false},
+                      {"finishing the overlapped work", s.background_wait_s, false},
                       {"HDR merge (what was left)", p.hdr_s, true},
                       {"calibration (detect, solve)", p.calibration_s, true},
                       {"correspondence", p.correspondence_s, true},
                       {"reconstruction", p.reconstruction_s, true},
                       {"validation renders", p.validation_s, true},
-                      {"scoring against the truth", scoring_s, false},
-                      {"daemon overhead", OverheadS(), false},
-                      {"  of which planning the order", planning_s, false}};
+                      {"scoring against the truth", s.scoring_s, false},
+                      {"daemon overhead", s.OverheadS(), false},
+                      {"  of which planning the order", s.planning_s, false}};
   // Processed again (acq session process): the capture's rows and the daemon's are not this
   // run's.
   for (const Row& row : rows) {
-    if (!captured && !row.processing) continue;
+    if (!s.captured && !row.processing) continue;
     std::snprintf(line, sizeof line, "  %-30s %8.2f s  %s\n", row.what, row.s,
-                  Share(row.s, wall_s).c_str());
+                  Share(row.s, s.wall_s).c_str());
     t << line;
   }
-  if (captured) {
-    std::snprintf(line, sizeof line,
-                  "  (during the capture, on a worker: %d poses merged and the calibration, %.2f "
-                  "s of its time)\n",
-                  background_poses, background_busy_s);
-    t << line;
-    std::snprintf(line, sizeof line,
-                  "  (from the last frame to the processed session: %.2f s)\n"
-                  "\nframes: %d taken, %d already there; %ld arrived incomplete, %ld retaken\n",
-                  after_capture_s, capture.frames_taken, capture.frames_skipped, incomplete_frames,
-                  retaken_frames);
-    t << line;
-  } else {
-    t << "\nframes: as captured, none taken\n";
-  }
+  if (!s.captured) return t.str() + "\nframes: as captured, none taken\n";
+  std::snprintf(line, sizeof line,
+                "  (during the capture, on a worker: %d poses merged, the calibration and the "
+                "correspondence, %.2f s of its time; writing the frames, on their own, %.2f s)\n"
+                "  (from the last frame to the processed session: %.2f s)\n"
+                "\nframes: %d taken, %d already there; %ld arrived incomplete, %ld retaken\n",
+                s.background_poses, s.background_busy_s, s.writer_busy_s, s.after_capture_s,
+                c.frames_taken, c.frames_skipped, s.incomplete_frames, s.retaken_frames);
+  return t.str() + line;
+}
+
+// The map, the calibration and the validation views.
+std::string ResultText(const ProcessReport& p) {
+  const ReconstructionReport& r = p.reconstruction;
+  std::ostringstream t;
+  char line[256];
   std::snprintf(line, sizeof line,
                 "map svbrdf.exr: %d x %d pixels of %.3f mm; %ld valid (%.1f%%); not valid: %ld "
                 "with no observation, %ld too few, %ld poorly conditioned\n",
@@ -181,28 +185,43 @@ std::string SessionReport::Text() const {
                   v.name.c_str(), v.relative_rms, v.median_relative, v.pixels, v.render.c_str());
     t << line;
   }
-  if (scored) {
+  return t.str();
+}
+
+// The simulated session against its truth.
+std::string TruthText(const SessionReport& s) {
+  if (!s.scored) return "";
+  std::ostringstream t;
+  char line[256];
+  std::snprintf(line, sizeof line,
+                "against the ground truth: median per-pixel log-space RMSE %.4f (valid pixels "
+                "%.4f); homogeneous result for the same materials and directions %.4f\n",
+                s.score.median_log_rmse, s.score.median_log_rmse_valid,
+                s.homogeneous_median_log_rmse);
+  t << line;
+  std::snprintf(line, sizeof line,
+                "calibrated geometry against the true one: misalignment median %.3f px, worst "
+                "%.3f px; the camera centre from the board alone off by %.2f deg median, %.2f "
+                "deg worst\n",
+                s.alignment_median_px, s.alignment_max_px, s.board_eye_error_median_deg,
+                s.board_eye_error_max_deg);
+  t << line;
+  const std::vector<double>& per_material = s.score.material_median_log_rmse;
+  for (std::size_t m = 0; m < per_material.size(); ++m) {
     std::snprintf(line, sizeof line,
-                  "against the ground truth: median per-pixel log-space RMSE %.4f (valid pixels "
-                  "%.4f); homogeneous result for the same materials and directions %.4f\n",
-                  score.median_log_rmse, score.median_log_rmse_valid, homogeneous_median_log_rmse);
+                  "  material %zu %-24s per-pixel median %.4f, homogeneous %.4f\n", m,
+                  m < s.materials.size() ? s.materials[m].c_str() : "", per_material[m],
+                  m < s.homogeneous_log_rmse.size() ? s.homogeneous_log_rmse[m] : 0.0);
     t << line;
-    std::snprintf(line, sizeof line,
-                  "calibrated geometry against the true one: misalignment median %.3f px, worst "
-                  "%.3f px; the camera centre from the board alone off by %.2f deg median, %.2f "
-                  "deg worst\n",
-                  alignment_median_px, alignment_max_px, board_eye_error_median_deg,
-                  board_eye_error_max_deg);
-    t << line;
-    for (std::size_t m = 0; m < score.material_median_log_rmse.size(); ++m) {
-      std::snprintf(
-          line, sizeof line, "  material %zu %-24s per-pixel median %.4f, homogeneous %.4f\n", m,
-          m < materials.size() ? materials[m].c_str() : "", score.material_median_log_rmse[m],
-          m < homogeneous_log_rmse.size() ? homogeneous_log_rmse[m] : 0.0);
-      t << line;
-    }
   }
   return t.str();
+}
+
+}  // namespace
+
+std::string SessionReport::Text() const {
+  return "session " + session + " (plan " + plan + ", backend " + backend + ")\n\n" +
+         TimeText(*this) + ResultText(process) + TruthText(*this);
 }
 
 void WriteReport(const SessionReport& report, const std::string& session_dir) {

@@ -13,6 +13,7 @@
 #include "io/session_lock.h"
 #include "session/background.h"
 #include "session/capture.h"
+#include "session/frame_writer.h"
 #include "session/process.h"
 
 namespace acq {
@@ -61,11 +62,14 @@ std::optional<SessionCalibration> CaptureAll(const Plan& plan, SessionDevices& d
   const SessionVisits visits = PlanVisits(plan);
   report->planning_s = SecondsSince(planning_start);
   const std::vector<CaptureStep> steps = CaptureSteps(plan, visits);
-  CaptureContext context{*devices.gantry, *devices.camera, catalog,
+  BackgroundProcessing background(plan);
+  // After the worker: destroyed first, it records what it has queued (an abort, a failure)
+  // while the worker can still take the poses it completes.
+  FrameWriter writer(catalog);
+  CaptureContext context{*devices.gantry, *devices.camera, catalog,          writer,
                          control,         status,          devices.gantry_id};
   context.ask_operator = devices.ask_operator;
   context.place = devices.place;
-  BackgroundProcessing background(plan);
   const Step last_board_step = plan.validation.empty() ? Step::kBoard : Step::kBoardValidation;
   context.pose_captured = [&](Step step, int pose) {
     background.PoseCaptured(catalog.directory(), step, pose, catalog.FramesOf(step, pose));
@@ -75,6 +79,7 @@ std::optional<SessionCalibration> CaptureAll(const Plan& plan, SessionDevices& d
   };
   for (const CaptureStep& step : steps) context.poses_total += int(step.visit->poses.size());
   for (const CaptureStep& step : steps) report->capture += Capture(plan, step, context);
+  report->writer_busy_s = writer.busy_s();
   devices.gantry->SetLight(false, 0);
   const StreamStatistics stream = devices.camera->Statistics();
   report->incomplete_frames = long(stream.incomplete);

@@ -1,0 +1,62 @@
+// Frames written into the session off the capture's thread (issue 21): a full-size frame takes
+// a few tenths of a second to compress, checksum and record, time the gantry can spend moving to
+// the next pose. One writer thread takes the frames in the order they were grabbed and, for
+// each, keeps the catalog's rule (io/session_catalog.h): the file is written under a temporary
+// name and renamed into place, then its row committed. A frame still queued when the process
+// dies has no row and no file and is taken again by the resumed run, exactly as a frame whose
+// grab was cut short. Markers queued between the frames run on the writer once every frame
+// before them is recorded (a pose's frames all in: its merge can start).
+//
+// A failure to write (disk full, the session's folder gone) stops the capture: the writer
+// keeps the first error and the capture's thread rethrows it at its next call.
+#pragma once
+
+#include <condition_variable>
+#include <cstddef>
+#include <deque>
+#include <exception>
+#include <functional>
+#include <map>
+#include <mutex>
+#include <string>
+#include <thread>
+
+#include "hw/camera.h"
+#include "io/session_catalog.h"
+
+namespace acq {
+
+class FrameWriter {
+ public:
+  // At most `max_queued` frames wait (the grab blocks beyond: memory stays bounded).
+  explicit FrameWriter(SessionCatalog& catalog, std::size_t max_queued = 6);
+  ~FrameWriter();  // writes and records what is queued, then ends the thread
+  FrameWriter(const FrameWriter&) = delete;
+  FrameWriter& operator=(const FrameWriter&) = delete;
+
+  // Queues `frame` for `row.path` (relative to the session) with its metadata; rethrows an
+  // earlier write's failure.
+  void Write(Frame frame, std::map<std::string, std::string> attributes, CatalogFrame row);
+  // Runs `marker` on the writer once every frame queued before it is recorded.
+  void After(std::function<void()> marker);
+  // Waits until everything queued is written, recorded and run; rethrows a failure.
+  void Flush();
+  double busy_s() const;  // the writer's time spent
+
+ private:
+  void Run();
+  void ThrowIfFailed();  // with mutex_ held
+
+  SessionCatalog& catalog_;
+  const std::size_t max_queued_;
+  mutable std::mutex mutex_;
+  std::condition_variable changed_;
+  std::deque<std::function<void()>> queue_;
+  std::size_t frames_queued_ = 0;
+  bool working_ = false, stopping_ = false;
+  std::exception_ptr failure_;
+  double busy_s_ = 0;
+  std::thread thread_;
+};
+
+}  // namespace acq

@@ -1,0 +1,80 @@
+// The frame writer (session/frame_writer.h): frames written and recorded off the capture's
+// thread, in order, each file complete before its row; markers run after the frames before them;
+// a failure to write comes back to the capture's thread; what is queued is written at the end.
+#include <catch2/catch.hpp>
+
+#include <atomic>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "hw/frame_file.h"
+#include "io/session_catalog.h"
+#include "session/frame_writer.h"
+#include "test_helpers.h"
+
+using namespace acq;
+namespace fs = std::filesystem;
+
+namespace {
+
+Frame TestFrame(int i) {
+  Frame f;
+  f.width = 64;
+  f.height = 48;
+  f.exposure_us = 1000 + i;
+  f.pixels.assign(std::size_t(f.width) * f.height, std::uint16_t(i));
+  return f;
+}
+
+CatalogFrame Row(int pose) {
+  return {
+      Step::kSample, pose, 1000.0 + pose, FrameFileName(Step::kSample, pose, 1000 + pose), "", 0};
+}
+
+}  // namespace
+
+TEST_CASE("frame writer: in order, markers after their frames, all written at the end",
+          "[session]") {
+  const test::TempDir tmp;
+  fs::create_directories(tmp / "frames");
+  SessionCatalog catalog(tmp / "");
+  std::vector<int> recorded_at_marker;
+  {
+    FrameWriter writer(catalog, 2);  // a small queue: Write() must wait, never drop
+    for (int i = 0; i < 8; ++i) {
+      writer.Write(TestFrame(i), {{"pose", std::to_string(i)}}, Row(i));
+      // Runs on the writer once frame i is recorded: every frame up to it is in the catalog.
+      writer.After([&, i] {
+        recorded_at_marker.push_back(int(catalog.Frames().size()));
+        CHECK(catalog.HasFrame(Step::kSample, i, 1000 + i));
+      });
+    }
+    writer.Flush();
+    CHECK(catalog.Frames().size() == 8);
+    for (int i = 8; i < 12; ++i) writer.Write(TestFrame(i), {}, Row(i));
+  }  // the destructor writes and records the four still queued
+  const std::vector<CatalogFrame> frames = catalog.Frames();
+  REQUIRE(frames.size() == 12);
+  for (int i = 0; i < 12; ++i) {
+    CHECK(frames[std::size_t(i)].pose == i);  // in the order written
+    const Frame back = ReadFrameExr(tmp / frames[std::size_t(i)].path);
+    CHECK(back.pixels == TestFrame(i).pixels);
+  }
+  REQUIRE(recorded_at_marker.size() == 8);
+  for (int i = 0; i < 8; ++i) CHECK(recorded_at_marker[std::size_t(i)] >= i + 1);
+  CHECK(catalog.VerifyAndRepair().verified == 12);
+}
+
+TEST_CASE("frame writer: a failure to write comes back to the capture, nothing after it is written",
+          "[session]") {
+  const test::TempDir tmp;
+  SessionCatalog catalog(tmp / "");  // no frames/ folder: every write fails
+  FrameWriter writer(catalog);
+  writer.Write(TestFrame(0), {}, Row(0));
+  CHECK_THROWS(writer.Flush());
+  // Once failed, always failed: the capture stops at its next frame.
+  CHECK_THROWS(writer.Write(TestFrame(1), {}, Row(1)));
+  CHECK_THROWS(writer.After([] {}));
+  CHECK(catalog.Frames().empty());
+}
