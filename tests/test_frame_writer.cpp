@@ -5,6 +5,7 @@
 
 #include <atomic>
 #include <filesystem>
+#include <fstream>
 #include <string>
 #include <vector>
 
@@ -69,7 +70,8 @@ TEST_CASE("frame writer: in order, markers after their frames, all written at th
 TEST_CASE("frame writer: a failure to write comes back to the capture, nothing after it is written",
           "[session]") {
   const test::TempDir tmp;
-  SessionCatalog catalog(tmp / "");  // no frames/ folder: every write fails
+  std::ofstream(tmp / "frames") << "not a folder";  // every frame write fails (root or not)
+  SessionCatalog catalog(tmp / "");
   FrameWriter writer(catalog);
   writer.Write(TestFrame(0), {}, Row(0));
   CHECK_THROWS(writer.Flush());
