@@ -70,8 +70,9 @@ TEST_CASE("frame writer: in order, markers after their frames, all written at th
 TEST_CASE("frame writer: a failure to write comes back to the capture, nothing after it is written",
           "[session]") {
   const test::TempDir tmp;
-  std::ofstream(tmp / "frames") << "not a folder";  // every frame write fails (root or not)
   SessionCatalog catalog(tmp / "");
+  fs::remove_all(tmp / "frames");
+  std::ofstream(tmp / "frames") << "not a folder";  // every frame write fails (root or not)
   FrameWriter writer(catalog);
   writer.Write(TestFrame(0), {}, Row(0));
   CHECK_THROWS(writer.Flush());
