@@ -45,18 +45,22 @@ void BackgroundProcessing::PoseCaptured(const std::string& dir, Step step, int p
   std::lock_guard<std::mutex> lock(mutex_);
   queue_.push_back([this, dir, step, pose, frames = std::move(frames)] {
     double seconds = 0;
-    const PoseHdr merged = MergePose(dir, step, pose, frames, &seconds);
-    {
-      std::lock_guard<std::mutex> done(mutex_);
-      ++poses_merged_;
-    }
+    PoseHdr merged = MergePose(dir, step, pose, frames, &seconds);
     // A view of the sample, once the calibration is in (the board steps come first): its
-    // correspondence map too, which the processing then reads back.
-    if (!calibration_ || ItemOf(step) != Item::kSample) return;
-    if (const BoardPoseResult* board = calibration_->PoseOf(step, pose))
-      PoseCorrespondence(dir, step, pose, *reference_,
-                         CalibratedViewOf(plan_, calibration_->camera, *board, merged.arms),
-                         &seconds);
+    // correspondence map too. Both kept for the processing (the boards' merges are not: the
+    // calibration has used them).
+    std::optional<FloatPlanes> correspondence;
+    const BoardPoseResult* board =
+        calibration_ && ItemOf(step) == Item::kSample ? calibration_->PoseOf(step, pose) : nullptr;
+    if (board)
+      correspondence = PoseCorrespondence(
+          dir, step, pose, *reference_,
+          CalibratedViewOf(plan_, calibration_->camera, *board, merged.arms), &seconds);
+    std::lock_guard<std::mutex> done(mutex_);
+    ++poses_merged_;
+    if (ItemOf(step) == Item::kBoard) return;
+    results_.poses[{step, pose}] = std::move(merged);
+    if (correspondence) results_.correspondence[{step, pose}] = std::move(*correspondence);
   });
   wake_.notify_all();
 }
@@ -70,14 +74,18 @@ void BackgroundProcessing::BoardsCaptured(SessionFrames session) {
     std::lock_guard<std::mutex> done(mutex_);
     calibration_ = std::move(c);
     reference_ = reference;
+    results_.correspondence.clear();  // made for no calibration or another one
   });
   wake_.notify_all();
 }
 
-std::optional<SessionCalibration> BackgroundProcessing::Finish() {
+PrecomputedStages BackgroundProcessing::Finish() {
   std::unique_lock<std::mutex> lock(mutex_);
   wake_.wait(lock, [&] { return queue_.empty() && !working_; });
-  return calibration_;
+  PrecomputedStages out = std::move(results_);
+  out.calibration = calibration_;
+  results_ = {};
+  return out;
 }
 
 double BackgroundProcessing::busy_s() const {

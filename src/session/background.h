@@ -17,6 +17,7 @@
 #include "acq/plan.h"
 #include "calib/correspondence.h"
 #include "session/pose_hdr.h"
+#include "session/process.h"
 #include "session/session_calibration.h"
 
 namespace acq {
@@ -32,8 +33,9 @@ class BackgroundProcessing {
   void PoseCaptured(const std::string& dir, Step step, int pose, std::vector<CatalogFrame> frames);
   // The board steps are captured: `session` holds their frames.
   void BoardsCaptured(SessionFrames session);
-  // Waits for the queue; the calibration when it was computed.
-  std::optional<SessionCalibration> Finish();
+  // Waits for the queue; what it computed: the calibration, the merged poses, the views'
+  // correspondence maps (for that calibration).
+  PrecomputedStages Finish();
 
   double busy_s() const;  // worker time spent (overlapping the capture, mostly)
   int poses_merged() const;
@@ -47,6 +49,7 @@ class BackgroundProcessing {
   bool stopping_ = false, working_ = false;
   std::optional<SessionCalibration> calibration_;  // set and read by the worker
   std::optional<calib::ReferenceView> reference_;  // the calibrated camera's, with it
+  PrecomputedStages results_;                      // merges and correspondence, for Finish()
   double busy_s_ = 0;
   int poses_merged_ = 0;
   std::thread worker_;

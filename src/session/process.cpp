@@ -37,14 +37,33 @@ std::array<ViewImage, 3> Channels(const HdrImage& hdr) {
 
 // The views of `step` (with the Spectralon captures of `spectralon_step` where there are any):
 // each pose's correspondence map, from the camera pose its board capture gave.
+// The merged poses of `step`: those the worker merged, the others merged (or read back) here.
+std::map<int, PoseHdr> PosesOf(Step step, const SessionFrames& session,
+                               PrecomputedStages& precomputed, double* seconds) {
+  std::map<int, std::vector<CatalogFrame>> by_pose;
+  for (const CatalogFrame& f : session.frames)
+    if (f.step == step) by_pose[f.pose].push_back(f);
+  std::map<int, PoseHdr> merged;
+  for (const auto& [pose, frames] : by_pose) {
+    const auto known = precomputed.poses.find({step, pose});
+    if (known != precomputed.poses.end()) {
+      merged[pose] = std::move(known->second);
+      precomputed.poses.erase(known);
+    } else {
+      merged[pose] = MergePose(session.dir, step, pose, frames, seconds);
+    }
+  }
+  return merged;
+}
+
 std::vector<SessionView> ViewsOf(const Plan& plan, Step step, Step spectralon_step,
                                  const calib::ReferenceView& reference,
                                  const SessionGeometry& geometry, const SessionFrames& session,
-                                 ProcessReport* report) {
+                                 PrecomputedStages& precomputed, ProcessReport* report) {
   const SessionCalibration& calibration = report->calibration;
-  const std::map<int, PoseHdr> sample = MergeStep(step, session, &report->hdr_s);
+  const std::map<int, PoseHdr> sample = PosesOf(step, session, precomputed, &report->hdr_s);
   const std::map<int, PoseHdr> spectralon =
-      plan.spectralon ? MergeStep(spectralon_step, session, &report->hdr_s)
+      plan.spectralon ? PosesOf(spectralon_step, session, precomputed, &report->hdr_s)
                       : std::map<int, PoseHdr>();
   double correspondence_s = 0;
   std::vector<SessionView> views;
@@ -59,8 +78,14 @@ std::vector<SessionView> ViewsOf(const Plan& plan, Step step, Step spectralon_st
     SessionView view;
     view.name = p.direction.empty() ? PoseName(step, pose) : p.direction;
     view.pose = pose;
-    view.correspondence =
-        PoseCorrespondence(session.dir, step, pose, reference, calibrated, &correspondence_s);
+    const auto known = precomputed.correspondence.find({step, pose});
+    if (known != precomputed.correspondence.end()) {
+      view.correspondence = std::move(known->second);
+      precomputed.correspondence.erase(known);
+    } else {
+      view.correspondence =
+          PoseCorrespondence(session.dir, step, pose, reference, calibrated, &correspondence_s);
+    }
     view.sample = Channels(p.hdr);
     if (plan.spectralon) {
       const auto s = spectralon.find(pose);
@@ -95,16 +120,15 @@ void WriteComparison(const ValidationResult& r, const std::string& path) {
 }  // namespace
 
 ProcessReport ProcessSession(const Plan& plan, SessionCatalog& catalog,
-                             const SessionGeometry& geometry,
-                             std::optional<SessionCalibration> calibrated) {
+                             const SessionGeometry& geometry, PrecomputedStages precomputed) {
   ProcessReport report;
   const std::string dir = catalog.directory();
   const SessionFrames session = SessionFrames::Of(catalog);
   for (const char* sub : {"hdr", "correspondence", "calibration", "renders"})
     fs::create_directories(fs::path(dir) / sub);
   auto start = SteadyClock::now();
-  if (calibrated) {
-    report.calibration = std::move(*calibrated);
+  if (precomputed.calibration) {
+    report.calibration = std::move(*precomputed.calibration);
   } else {
     double calibration_hdr_s = 0;
     report.calibration = CalibrateSession(plan, session, &calibration_hdr_s);
@@ -120,8 +144,8 @@ ProcessReport ProcessSession(const Plan& plan, SessionCatalog& catalog,
   report.reference_height = reference.height;
   report.sample_points = calib::SamplePoints(reference);
 
-  std::vector<SessionView> views =
-      ViewsOf(plan, Step::kSample, Step::kSpectralon, reference, geometry, session, &report);
+  std::vector<SessionView> views = ViewsOf(plan, Step::kSample, Step::kSpectralon, reference,
+                                           geometry, session, precomputed, &report);
   if (views.empty()) throw UserError(dir, "no sample frames to process");
 
   start = SteadyClock::now();
@@ -143,7 +167,7 @@ ProcessReport ProcessSession(const Plan& plan, SessionCatalog& catalog,
 
   if (plan.validation.empty()) return report;
   std::vector<SessionView> checks = ViewsOf(plan, Step::kValidation, Step::kSpectralonValidation,
-                                            reference, geometry, session, &report);
+                                            reference, geometry, session, precomputed, &report);
   start = SteadyClock::now();
   const SvbrdfMap map = ReadSvbrdfMap(dir + "/svbrdf.exr");
   for (std::size_t i = 0; i < checks.size(); ++i) {

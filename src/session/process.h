@@ -18,6 +18,7 @@
 // with SessionGeometry::light_intensity. The light's position comes from its arm's angles.
 #pragma once
 
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -26,6 +27,7 @@
 #include "acq/reconstruction_job.h"
 #include "acq/validation.h"
 #include "calib/camera_model.h"
+#include "io/float_planes_exr.h"
 #include "io/session_catalog.h"
 #include "session/session_calibration.h"
 
@@ -56,10 +58,18 @@ struct ProcessReport {
   std::vector<ValidationSummary> validation;
 };
 
-// `calibrated`: the calibration already computed from this session's board captures (while
-// the capture went on, background.h); without it, computed here.
+// What was computed before the processing runs, taken as it is instead of computed again or
+// read back from disk: by the worker during the capture (background.h) or, for a reprocess from
+// the reconstruction, the calibration read back.
+struct PrecomputedStages {
+  std::optional<SessionCalibration> calibration;  // from this session's board captures
+  std::map<std::pair<Step, int>, PoseHdr> poses;  // merged poses (not the boards')
+  // Per view, for `calibration` (a map made for another calibration is never here).
+  std::map<std::pair<Step, int>, FloatPlanes> correspondence;
+};
+
+// Computes what `precomputed` lacks.
 ProcessReport ProcessSession(const Plan& plan, SessionCatalog& catalog,
-                             const SessionGeometry& geometry,
-                             std::optional<SessionCalibration> calibrated = std::nullopt);
+                             const SessionGeometry& geometry, PrecomputedStages precomputed = {});
 
 }  // namespace acq

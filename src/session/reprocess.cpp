@@ -186,8 +186,9 @@ ReprocessResult ReprocessSession(const ReprocessOptions& options) {
   SessionCatalog catalog(target);
   result.processing_changes = RecordOrCheckPlan(result.plan, target, catalog).processing_changes;
   if (options.from == ProcessStage::kHdr) fs::remove_all(fs::path(target) / "hdr");
-  std::optional<SessionCalibration> calibrated;
-  if (options.from == ProcessStage::kReconstruction) calibrated = ReadSessionCalibration(target);
+  PrecomputedStages precomputed;
+  if (options.from == ProcessStage::kReconstruction)
+    precomputed.calibration = ReadSessionCalibration(target);
   SessionGeometry geometry;
   if (!result.plan.spectralon) {
     const std::string light = catalog.Decision(kLightIntensityDecision);
@@ -198,7 +199,7 @@ ReprocessResult ReprocessSession(const ReprocessOptions& options) {
   }
   catalog.Event("info", std::string("acq session process from ") + ToString(options.from) +
                             (options.output.empty() ? "" : " (a copy of " + options.session + ")"));
-  result.process = ProcessSession(result.plan, catalog, geometry, std::move(calibrated));
+  result.process = ProcessSession(result.plan, catalog, geometry, std::move(precomputed));
   return result;
 }
 

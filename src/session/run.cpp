@@ -49,11 +49,11 @@ void PrepareReplay(const Plan& plan, SessionCatalog& catalog, ReplayCamera& repl
 }
 
 // Every capture step, with processing that overlaps it: merges of finished poses, the
-// calibration once the boards are in. Returns the calibration computed meanwhile.
-std::optional<SessionCalibration> CaptureAll(const Plan& plan, SessionDevices& devices,
-                                             SessionCatalog& catalog, StatusChannel& control,
-                                             SessionStatus& status, SessionReport* report,
-                                             const Phase& phase) {
+// calibration once the boards are in, the views' correspondence. Returns what was computed
+// meanwhile.
+PrecomputedStages CaptureAll(const Plan& plan, SessionDevices& devices, SessionCatalog& catalog,
+                             StatusChannel& control, SessionStatus& status, SessionReport* report,
+                             const Phase& phase) {
   phase("homing");
   HomeAndWait(*devices.gantry,
               HomingTimeoutSeconds(plan.gantry.motion.SlowestAxis(), plan.gantry.motion.settle_s));
@@ -95,11 +95,11 @@ std::optional<SessionCalibration> CaptureAll(const Plan& plan, SessionDevices& d
   ThrowIfStopRequested();
   phase("processing: finishing what ran during the capture");
   const auto finishing_start = SteadyClock::now();
-  std::optional<SessionCalibration> calibrated = background.Finish();
+  PrecomputedStages computed = background.Finish();
   report->background_wait_s = SecondsSince(finishing_start);
   report->background_busy_s = background.busy_s();
   report->background_poses = background.poses_merged();
-  return calibrated;
+  return computed;
 }
 
 // The light's intensity where no Spectralon measures it, recorded once for `acq session
@@ -118,14 +118,13 @@ void CaptureAndProcess(const Plan& plan, const SessionHooks& hooks, SessionDevic
   WriteDirectionsTsv(plan.directions, plan.output + "/directions.tsv",
                      "the directions this session used: " + plan.directions_file);
   catalog.Event("info", "session started (" + std::string(BackendName(plan.backend)) + ")");
-  std::optional<SessionCalibration> calibrated =
-      CaptureAll(plan, devices, catalog, control, status, report, phase);
+  PrecomputedStages computed = CaptureAll(plan, devices, catalog, control, status, report, phase);
   // After CaptureAll, which waited background_wait_s for the overlapped work.
   const auto captured = SteadyClock::now();
   RecordLightIntensity(devices.light_intensity, catalog);
   ThrowIfStopRequested();
   phase("processing: HDR merge, calibration, correspondence, reconstruction, validation");
-  report->process = ProcessSession(plan, catalog, {devices.light_intensity}, std::move(calibrated));
+  report->process = ProcessSession(plan, catalog, {devices.light_intensity}, std::move(computed));
   report->after_capture_s = report->background_wait_s + SecondsSince(captured);
   if (hooks.score) {
     phase("scoring against the ground truth");
