@@ -66,6 +66,9 @@ expect_error "unknown option" "unknown option --frobnicate" -- \
 "$acq" basis build "$tmp/good" -o "$tmp/one.acqb" --components 3 --quiet >/dev/null
 expect_error "direction below the horizon" "below.tsv:3" "below the horizon" -- \
   "$acq" basis eval --basis "$tmp/one.acqb" --directions "$tmp/below.tsv" --k 3 --all-given "$tmp/good"
+# Issue 18: scoring a material the basis trained on is said to be no test of it.
+expect_warning "a trained material scored" "1 of the 1 materials scored trained this basis (brass)" -- \
+  "$acq" basis eval --basis "$tmp/one.acqb" --directions "$data/directions/seed_directions_20.tsv" --k 3 --all-given "$tmp/good"
 expect_error "k larger than the basis" "--k" "[1, 3]" -- \
   "$acq" basis eval --basis "$tmp/one.acqb" --directions "$data/directions/seed_directions_20.tsv" --k 20 "$tmp/good"
 expect_error "not a basis file" "wrong magic" -- \
