@@ -2,8 +2,11 @@
 
 #include <cctype>
 #include <cmath>
+#include <cstdint>
 #include <sstream>
 #include <stdexcept>
+
+#include <CLI/CLI.hpp>
 
 #include "core/error.h"
 
@@ -49,33 +52,44 @@ Args::Args(std::string command, const std::vector<std::string>& argv, std::set<s
       throw std::logic_error(command_ + " accepts" + missing + " but its help does not say so");
   }
   const std::string help = "see `" + command_ + " --help`";
-  for (std::size_t i = 0; i < argv.size(); ++i) {
-    const std::string& a = argv[i];
-    const bool short_option = a.size() == 2 && a[0] == '-' && std::isalpha(a[1]);
-    if ((a.rfind("--", 0) != 0 || a == "--") && !short_option) {
-      positionals_.push_back(a);
-      continue;
-    }
-    std::string name = a.substr(short_option ? 1 : 2), value;
-    const auto eq = name.find('=');
-    const bool inline_value = eq != std::string::npos;
-    if (inline_value) {
-      value = name.substr(eq + 1);
-      name = name.substr(0, eq);
-    }
-    if (flags.count(name)) {
-      if (inline_value) throw UserError(command_ + " --" + name, "takes no value", help);
-      values_[name].push_back("1");
-    } else if (valued.count(name)) {
-      if (!inline_value) {
-        if (i + 1 >= argv.size()) throw UserError(command_ + " --" + name, "needs a value", help);
-        value = argv[++i];
-      }
-      values_[name].push_back(value);
-    } else {
-      throw UserError(command_, "unknown option --" + name, help);
-    }
+  // The tokens are CLI11's to split (--name value, --name=value, -n value, flags, positionals,
+  // "--"); the options' meanings and the messages stay this file's.
+  CLI::App app{command_};
+  app.set_help_flag();  // --help is acq_main's, before an Args is made
+  app.allow_extras();   // an unknown option: our message below, naming it
+  std::map<std::string, std::vector<std::string>> given;
+  std::map<std::string, std::int64_t> counted;
+  // A one-letter name is also -n (acq's -o); every name is --name.
+  auto spelling = [](const std::string& name) {
+    return name.size() == 1 ? "-" + name + ",--" + name : "--" + name;
+  };
+  for (const std::string& name : valued)
+    app.add_option(spelling(name), given[name])
+        ->expected(1)
+        ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll)
+        ->allow_extra_args(false);
+  for (const std::string& name : flags) app.add_flag(spelling(name), counted[name]);
+  for (const std::string& a : argv)  // a flag given a value: refused, not read as a count
+    for (const std::string& name : flags)
+      if (a.rfind("--" + name + "=", 0) == 0)
+        throw UserError(command_ + " --" + name, "takes no value", help);
+  std::vector<std::string> reversed(argv.rbegin(), argv.rend());  // CLI11 takes them reversed
+  try {
+    app.parse(reversed);
+  } catch (const CLI::ArgumentMismatch& e) {
+    throw UserError(command_, std::string(e.what()) + ": an option needs a value", help);
+  } catch (const CLI::ParseError& e) {
+    throw UserError(command_, e.what(), help);
   }
+  for (const std::string& extra : app.remaining()) {
+    if (extra.size() > 1 && extra[0] == '-' && !std::isdigit(static_cast<unsigned char>(extra[1])))
+      throw UserError(command_, "unknown option " + extra.substr(0, extra.find('=')), help);
+    positionals_.push_back(extra);
+  }
+  for (auto& [name, values] : given)
+    if (!values.empty()) values_[name] = std::move(values);
+  for (const auto& [name, count] : counted)
+    if (count > 0) values_[name] = std::vector<std::string>(std::size_t(count), "1");
 }
 
 std::string Args::Get(const std::string& name, const std::string& fallback) const {

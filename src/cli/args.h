@@ -1,5 +1,6 @@
-// Minimal command-line parsing for the acq subcommands: --name value, --name=value, flags
-// without values, and positionals. Unknown options and missing values are UserErrors that name
+// Command-line parsing for the acq subcommands: --name value, --name=value, flags without
+// values, and positionals, split by CLI11 (issue 21); the typed, range-checked reading of the
+// values and the messages are here. Unknown options and missing values are UserErrors that name
 // the command and the option.
 #pragma once
 

@@ -54,7 +54,9 @@ void FrameWriter::ThrowIfFailed() {
 void FrameWriter::Write(Frame frame, std::map<std::string, std::string> attributes,
                         CatalogFrame row) {
   std::unique_lock<std::mutex> lock(mutex_);
+  const auto start = SteadyClock::now();
   changed_.wait(lock, [&] { return frames_queued_ < max_queued_ || failure_; });
+  blocked_s_ += SecondsSince(start);
   ThrowIfFailed();
   ++frames_queued_;
   queue_.push_back(
@@ -84,6 +86,11 @@ void FrameWriter::Flush() {
 double FrameWriter::busy_s() const {
   std::lock_guard<std::mutex> lock(mutex_);
   return busy_s_;
+}
+
+double FrameWriter::blocked_s() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return blocked_s_;
 }
 
 }  // namespace acq

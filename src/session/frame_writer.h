@@ -41,7 +41,8 @@ class FrameWriter {
   void After(std::function<void()> marker);
   // Waits until everything queued is written, recorded and run; rethrows a failure.
   void Flush();
-  double busy_s() const;  // the writer's time spent
+  double busy_s() const;     // the writer's time spent
+  double blocked_s() const;  // the capture's time waiting in Write() for room in the queue
 
  private:
   void Run();
@@ -55,7 +56,7 @@ class FrameWriter {
   std::size_t frames_queued_ = 0;
   bool working_ = false, stopping_ = false;
   std::exception_ptr failure_;
-  double busy_s_ = 0;
+  double busy_s_ = 0, blocked_s_ = 0;
   std::thread thread_;
 };
 

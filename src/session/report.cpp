@@ -46,6 +46,7 @@ std::string SessionReport::Json() const {
                  {"background_wait", background_wait_s},
                  {"background_busy", background_busy_s},
                  {"frame_writer_busy", writer_busy_s},
+                 {"frame_writer_blocked", writer_blocked_s},
                  {"hdr_merge", p.hdr_s},
                  {"calibration", p.calibration_s},
                  {"correspondence", p.correspondence_s},
@@ -140,13 +141,15 @@ std::string TimeText(const SessionReport& s) {
     t << line;
   }
   if (!s.captured) return t.str() + "\nframes: as captured, none taken\n";
-  std::snprintf(line, sizeof line,
-                "  (during the capture, on a worker: %d poses merged, the calibration and the "
-                "correspondence, %.2f s of its time; writing the frames, on their own, %.2f s)\n"
-                "  (from the last frame to the processed session: %.2f s)\n"
-                "\nframes: %d taken, %d already there; %ld arrived incomplete, %ld retaken\n",
-                s.background_poses, s.background_busy_s, s.writer_busy_s, s.after_capture_s,
-                c.frames_taken, c.frames_skipped, s.incomplete_frames, s.retaken_frames);
+  std::snprintf(
+      line, sizeof line,
+      "  (during the capture, on a worker: %d poses merged, the calibration and the "
+      "correspondence, %.2f s of its time; writing the frames, on their own, %.2f s, the capture\n"
+      "  waiting %.2f s of it for room in the writer's queue)\n"
+      "  (from the last frame to the processed session: %.2f s)\n"
+      "\nframes: %d taken, %d already there; %ld arrived incomplete, %ld retaken\n",
+      s.background_poses, s.background_busy_s, s.writer_busy_s, s.writer_blocked_s,
+      s.after_capture_s, c.frames_taken, c.frames_skipped, s.incomplete_frames, s.retaken_frames);
   return t.str() + line;
 }
 

@@ -28,7 +28,8 @@ struct SessionReport {
   // of the breakdown), the poses it merged, and the wait for what it had left at the end.
   double background_busy_s = 0, background_wait_s = 0;
   int background_poses = 0;
-  double writer_busy_s = 0;  // writing and recording the frames, off the capture's thread
+  double writer_busy_s = 0;     // writing and recording the frames, off the capture's thread
+  double writer_blocked_s = 0;  // the capture waiting for room in the writer's queue
   // From the last frame to the session processed (the map and its validation renders; the
   // scoring not included): what the capture's overlap with processing leaves to wait for.
   double after_capture_s = 0;

@@ -80,6 +80,7 @@ PrecomputedStages CaptureAll(const Plan& plan, SessionDevices& devices, SessionC
   for (const CaptureStep& step : steps) context.poses_total += int(step.visit->poses.size());
   for (const CaptureStep& step : steps) report->capture += Capture(plan, step, context);
   report->writer_busy_s = writer.busy_s();
+  report->writer_blocked_s = writer.blocked_s();
   devices.gantry->SetLight(false, 0);
   const StreamStatistics stream = devices.camera->Statistics();
   report->incomplete_frames = long(stream.incomplete);
