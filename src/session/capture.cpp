@@ -146,6 +146,7 @@ CaptureReport& CaptureReport::operator+=(const CaptureReport& o) {
   exposure_s += o.exposure_s;
   transfer_s += o.transfer_s;
   bracket_probe_s += o.bracket_probe_s;
+  settings_s += o.settings_s;
   operator_s += o.operator_s;
   return *this;
 }
@@ -208,7 +209,9 @@ void TakeFrame(const Plan& plan, const CaptureStep& step, const HeldPose& pose, 
                const std::vector<double>& bracket, CaptureContext& c, CaptureReport* report) {
   CameraSettings settings = plan.camera.settings;
   settings.exposure_us = t;
+  const auto apply_start = SteadyClock::now();
   c.camera.Apply(settings);
+  report->settings_s += SecondsSince(apply_start);
   const auto grab_start = SteadyClock::now();
   Frame frame = c.camera.Grab();
   const double grab_s = SecondsSince(grab_start);

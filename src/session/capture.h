@@ -37,7 +37,8 @@ struct CaptureReport {
   int frames_taken = 0, frames_skipped = 0;
   double motion_s = 0, exposure_s = 0, transfer_s = 0;  // where the time went
   double bracket_probe_s = 0;                           // choosing automatic brackets
-  double operator_s = 0;                                // waiting for the operator
+  double settings_s = 0;  // the camera taking each frame's exposure (a control round trip)
+  double operator_s = 0;  // waiting for the operator
   CaptureReport& operator+=(const CaptureReport& o);
 };
 

@@ -21,7 +21,7 @@ std::string Share(double part, double whole) {
 
 double SessionReport::OverheadS() const {
   const ProcessReport& p = process;
-  return wall_s - capture.motion_s - capture.exposure_s - capture.transfer_s -
+  return wall_s - capture.motion_s - capture.exposure_s - capture.transfer_s - capture.settings_s -
          capture.bracket_probe_s - capture.operator_s - background_wait_s - p.hdr_s -
          p.calibration_s - p.correspondence_s - p.reconstruction_s - p.validation_s - scoring_s;
 }
@@ -41,6 +41,7 @@ std::string SessionReport::Json() const {
                  {"motion", capture.motion_s},
                  {"exposure", capture.exposure_s},
                  {"transfer", capture.transfer_s},
+                 {"camera_settings", capture.settings_s},
                  {"bracket_probes", capture.bracket_probe_s},
                  {"operator", capture.operator_s},
                  {"background_wait", background_wait_s},
@@ -121,6 +122,7 @@ std::string TimeText(const SessionReport& s) {
   const Row rows[] = {{"motion and settling", c.motion_s, false},
                       {"exposure", c.exposure_s, false},
                       {"transfer", c.transfer_s, false},
+                      {"camera settings (exposure)", c.settings_s, false},
                       {"choosing brackets (probes)", c.bracket_probe_s, false},
                       {"waiting for the operator", c.operator_s, false},
                       {"finishing the overlapped work", s.background_wait_s, false},
