@@ -76,8 +76,8 @@ struct SimSpec {  // sim:
 struct ReconstructionSpec {  // reconstruction:
   std::string basis_file;
   std::string basis_where, components_where;  // file:line:column of the keys, for later checks
-  int components = 20;                        // k
-  double eta = 40;
+  int components = kDefaultComponents;        // k
+  double eta = kDefaultEta;
   RowLookup lookup = RowLookup::kNearest;
   int row_tile = 1;  // PixelSolveOptions::row_tile
   void Check() const;

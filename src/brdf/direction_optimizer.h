@@ -45,7 +45,7 @@ struct OptimizerOptions {
                      // edge midpoints and corners)
   FovObjective fov_objective = FovObjective::kWorst;
   Score score = Score::kExpectedError;
-  double eta = 40.0;           // the ridge strength the expected error is computed for
+  double eta = kDefaultEta;    // the ridge strength the expected error is computed for
   double max_condition = 200;  // cap for kExpectedError (the seed's 20 have 664 on our basis)
   bool progress = true;
 

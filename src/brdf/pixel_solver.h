@@ -71,8 +71,8 @@ enum class PixelKernel {
 };
 
 struct PixelSolveOptions {
-  int components = 20;  // k
-  double eta = 40.0;
+  int components = kDefaultComponents;  // k
+  double eta = kDefaultEta;
   RowLookup lookup = RowLookup::kNearest;
   int min_observations = 0;  // fewer and the pixel is invalid; 0 means k / 2
   // Pixels whose sampled rows are worse conditioned than this are still solved but not valid:

@@ -11,8 +11,8 @@
 namespace acq {
 
 struct RidgeOptions {
-  int components = 20;                       // k; NJR15 uses k = n
-  double eta = 40.0;                         // meaningful with components scaled by singular values
+  int components = kDefaultComponents;       // k; NJR15 uses k = n
+  double eta = kDefaultEta;                  // meaningful with components scaled by singular values
   void Check(const BasisView& basis) const;  // throws UserError
 };
 
