@@ -138,12 +138,6 @@ std::vector<MerlBrdf> LuminanceTables(const std::vector<std::string>& material_f
   return tables;
 }
 
-std::vector<MerlBrdf> Instrument::TruthTables() const {
-  std::vector<MerlBrdf> tables;
-  for (const NeuralBrdf& n : networks_) tables.push_back(LuminanceOf(n.Tabulate()));
-  return tables;
-}
-
 void Instrument::WriteGroundTruth(const std::string& dir) const {
   sim::WriteGroundTruth(dir, scene_, model_);
 }

@@ -48,18 +48,12 @@ class Instrument {
 
   const std::string& camera_address() const { return camera_->address(); }
   const EmulatedUsbOptions& usb() const { return options_.usb; }
-  EmulatedUsbGantry& gantry() { return *gantry_; }
-  SimGigECamera& camera() { return *camera_; }
-  const calib::CameraModel& camera_model() const { return model_; }
   // The light's intensity in the HDR images' units (counts per us at 0 dB, x mm^2) at a
   // format's full scale: what a Spectralon capture measures on the instrument.
   double LightIntensityInCounts(int max_dn) const;
   // Puts `p` under the gantry in place of the operator; UserError for a held board pose the
   // instrument has not placed (beyond held_board_poses).
   void Place(const Placement& p);
-  // The card's materials tabulated on the MERL grid as the simulated mono camera records them
-  // (luminance in every channel), in label order.
-  std::vector<MerlBrdf> TruthTables() const;
   // Writes the card's ground truth (sim/ground_truth.h) into `dir`.
   void WriteGroundTruth(const std::string& dir) const;
 

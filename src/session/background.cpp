@@ -1,49 +1,13 @@
 #include "session/background.h"
 
-#include "core/seconds_since.h"
 #include "session/view_correspondence.h"
 
 namespace acq {
 
-BackgroundProcessing::BackgroundProcessing(const Plan& plan)
-    : plan_(plan), worker_([this] { Run(); }) {}
-
-BackgroundProcessing::~BackgroundProcessing() {
-  {
-    std::lock_guard<std::mutex> lock(mutex_);
-    stopping_ = true;
-  }
-  wake_.notify_all();
-  worker_.join();
-}
-
-void BackgroundProcessing::Run() {
-  std::unique_lock<std::mutex> lock(mutex_);
-  for (;;) {
-    wake_.wait(lock, [&] { return stopping_ || !queue_.empty(); });
-    if (queue_.empty()) return;  // stopping, all done
-    std::function<void()> job = std::move(queue_.front());
-    queue_.pop_front();
-    working_ = true;
-    lock.unlock();
-    const auto start = SteadyClock::now();
-    try {
-      job();
-    } catch (const std::exception&) {
-      // Left for the processing, which does the same work again and reports the failure.
-    }
-    const double spent = SecondsSince(start);
-    lock.lock();
-    busy_s_ += spent;
-    working_ = false;
-    wake_.notify_all();
-  }
-}
-
 void BackgroundProcessing::PoseCaptured(const std::string& dir, Step step, int pose,
                                         std::vector<CatalogFrame> frames) {
-  std::lock_guard<std::mutex> lock(mutex_);
-  queue_.push_back([this, dir, step, pose, frames = std::move(frames)] {
+  // A failure here is dropped: the processing meets it again and reports it properly.
+  worker_.Post([this, dir, step, pose, frames = std::move(frames)] {
     double seconds = 0;
     PoseHdr merged = MergePose(dir, step, pose, frames, &seconds);
     // A view of the sample, once the calibration is in (the board steps come first): its
@@ -62,12 +26,10 @@ void BackgroundProcessing::PoseCaptured(const std::string& dir, Step step, int p
     results_.poses[{step, pose}] = std::move(merged);
     if (correspondence) results_.correspondence[{step, pose}] = std::move(*correspondence);
   });
-  wake_.notify_all();
 }
 
 void BackgroundProcessing::BoardsCaptured(SessionFrames session) {
-  std::lock_guard<std::mutex> lock(mutex_);
-  queue_.push_back([this, session = std::move(session)] {
+  worker_.Post([this, session = std::move(session)] {
     double seconds = 0;
     SessionCalibration c = CalibrateSession(plan_, session, &seconds);
     const calib::ReferenceView reference = ReferenceViewOf(plan_, c.camera);
@@ -76,21 +38,15 @@ void BackgroundProcessing::BoardsCaptured(SessionFrames session) {
     reference_ = reference;
     results_.correspondence.clear();  // made for no calibration or another one
   });
-  wake_.notify_all();
 }
 
 PrecomputedStages BackgroundProcessing::Finish() {
-  std::unique_lock<std::mutex> lock(mutex_);
-  wake_.wait(lock, [&] { return queue_.empty() && !working_; });
+  worker_.Wait();
+  std::lock_guard<std::mutex> lock(mutex_);
   PrecomputedStages out = std::move(results_);
   out.calibration = calibration_;
   results_ = {};
   return out;
-}
-
-double BackgroundProcessing::busy_s() const {
-  std::lock_guard<std::mutex> lock(mutex_);
-  return busy_s_;
 }
 
 int BackgroundProcessing::poses_merged() const {

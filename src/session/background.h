@@ -6,28 +6,23 @@
 // is dropped: the processing meets it again and reports it properly.
 #pragma once
 
-#include <condition_variable>
-#include <deque>
-#include <functional>
 #include <mutex>
 #include <optional>
 #include <string>
-#include <thread>
 
 #include "acq/plan.h"
 #include "calib/correspondence.h"
 #include "session/pose_hdr.h"
 #include "session/process.h"
+#include "session/serial_worker.h"
 #include "session/session_calibration.h"
 
 namespace acq {
 
 class BackgroundProcessing {
  public:
-  explicit BackgroundProcessing(const Plan& plan);
-  ~BackgroundProcessing();  // finishes what is queued
-  BackgroundProcessing(const BackgroundProcessing&) = delete;
-  BackgroundProcessing& operator=(const BackgroundProcessing&) = delete;
+  explicit BackgroundProcessing(const Plan& plan) : plan_(plan) {}
+  ~BackgroundProcessing() = default;  // finishes what is queued
 
   // A pose's frames are all in the session (`frames`: those of the pose).
   void PoseCaptured(const std::string& dir, Step step, int pose, std::vector<CatalogFrame> frames);
@@ -37,22 +32,17 @@ class BackgroundProcessing {
   // correspondence maps (for that calibration).
   PrecomputedStages Finish();
 
-  double busy_s() const;  // worker time spent (overlapping the capture, mostly)
+  double busy_s() const { return worker_.busy_s(); }  // (overlapping the capture, mostly)
   int poses_merged() const;
 
  private:
-  void Run();
   const Plan plan_;
-  mutable std::mutex mutex_;
-  std::condition_variable wake_;
-  std::deque<std::function<void()>> queue_;
-  bool stopping_ = false, working_ = false;
+  mutable std::mutex mutex_;  // results_ and poses_merged_, read by the capture's thread
   std::optional<SessionCalibration> calibration_;  // set and read by the worker
   std::optional<calib::ReferenceView> reference_;  // the calibrated camera's, with it
   PrecomputedStages results_;                      // merges and correspondence, for Finish()
-  double busy_s_ = 0;
   int poses_merged_ = 0;
-  std::thread worker_;
+  SerialWorker worker_{SerialWorker::OnFailure::kDrop};  // last: goes first
 };
 
 }  // namespace acq

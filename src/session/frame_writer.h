@@ -11,28 +11,22 @@
 // keeps the first error and the capture's thread rethrows it at its next call.
 #pragma once
 
-#include <condition_variable>
 #include <cstddef>
-#include <deque>
-#include <exception>
 #include <functional>
 #include <map>
-#include <mutex>
 #include <string>
-#include <thread>
 
 #include "hw/camera.h"
 #include "io/session_catalog.h"
+#include "session/serial_worker.h"
 
 namespace acq {
 
 class FrameWriter {
  public:
-  // At most `max_queued` frames wait (the grab blocks beyond: memory stays bounded).
-  explicit FrameWriter(SessionCatalog& catalog, std::size_t max_queued = 6);
-  ~FrameWriter();  // writes and records what is queued, then ends the thread
-  FrameWriter(const FrameWriter&) = delete;
-  FrameWriter& operator=(const FrameWriter&) = delete;
+  // At most `max_queued` frames and markers wait (the grab blocks beyond: memory stays bounded).
+  explicit FrameWriter(SessionCatalog& catalog, std::size_t max_queued = 8);
+  ~FrameWriter() = default;  // writes and records what is queued, then ends the thread
 
   // Queues `frame` for `row.path` (relative to the session) with its metadata; rethrows an
   // earlier write's failure.
@@ -41,23 +35,14 @@ class FrameWriter {
   void After(std::function<void()> marker);
   // Waits until everything queued is written, recorded and run; rethrows a failure.
   void Flush();
-  double busy_s() const;     // the writer's time spent
-  double blocked_s() const;  // the capture's time waiting in Write() for room in the queue
+  double busy_s() const { return worker_.busy_s(); }  // the writer's time spent
+  double blocked_s() const { return blocked_s_; }  // the capture's, waiting for room in the queue
 
  private:
-  void Run();
-  void ThrowIfFailed();  // with mutex_ held
-
   SessionCatalog& catalog_;
   const std::size_t max_queued_;
-  mutable std::mutex mutex_;
-  std::condition_variable changed_;
-  std::deque<std::function<void()>> queue_;
-  std::size_t frames_queued_ = 0;
-  bool working_ = false, stopping_ = false;
-  std::exception_ptr failure_;
-  double busy_s_ = 0, blocked_s_ = 0;
-  std::thread thread_;
+  double blocked_s_ = 0;                                 // the capture's thread only
+  SerialWorker worker_{SerialWorker::OnFailure::kStop};  // last: goes first
 };
 
 }  // namespace acq

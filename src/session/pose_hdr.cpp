@@ -91,13 +91,21 @@ PoseHdr MergePose(const std::string& dir, Step step, int pose,
   return p;
 }
 
-std::map<int, PoseHdr> MergeStep(Step step, const SessionFrames& session, double* seconds) {
+std::map<int, PoseHdr> MergeStep(Step step, const SessionFrames& session, double* seconds,
+                                 std::map<std::pair<Step, int>, PoseHdr>* merged_before) {
   std::map<int, std::vector<CatalogFrame>> by_pose;
   for (const CatalogFrame& f : session.frames)
     if (f.step == step) by_pose[f.pose].push_back(f);
   std::map<int, PoseHdr> merged;
-  for (const auto& [pose, frames] : by_pose)
+  for (const auto& [pose, frames] : by_pose) {
+    if (merged_before) {
+      if (auto known = merged_before->extract({step, pose})) {
+        merged[pose] = std::move(known.mapped());
+        continue;
+      }
+    }
     merged[pose] = MergePose(session.dir, step, pose, frames, seconds);
+  }
   return merged;
 }
 

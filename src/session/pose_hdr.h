@@ -41,7 +41,9 @@ std::string PoseName(Step step, int pose);
 PoseHdr MergePose(const std::string& dir, Step step, int pose,
                   const std::vector<CatalogFrame>& frames, double* seconds);
 
-// Every pose of `step` in the session (pose index -> image).
-std::map<int, PoseHdr> MergeStep(Step step, const SessionFrames& session, double* seconds);
+// Every pose of `step` in the session (pose index -> image). A pose in `merged_before` (merged
+// while the capture went on) is taken from there, not merged again.
+std::map<int, PoseHdr> MergeStep(Step step, const SessionFrames& session, double* seconds,
+                                 std::map<std::pair<Step, int>, PoseHdr>* merged_before = nullptr);
 
 }  // namespace acq

@@ -37,33 +37,15 @@ std::array<ViewImage, 3> Channels(const HdrImage& hdr) {
 
 // The views of `step` (with the Spectralon captures of `spectralon_step` where there are any):
 // each pose's correspondence map, from the camera pose its board capture gave.
-// The merged poses of `step`: those the worker merged, the others merged (or read back) here.
-std::map<int, PoseHdr> PosesOf(Step step, const SessionFrames& session,
-                               PrecomputedStages& precomputed, double* seconds) {
-  std::map<int, std::vector<CatalogFrame>> by_pose;
-  for (const CatalogFrame& f : session.frames)
-    if (f.step == step) by_pose[f.pose].push_back(f);
-  std::map<int, PoseHdr> merged;
-  for (const auto& [pose, frames] : by_pose) {
-    const auto known = precomputed.poses.find({step, pose});
-    if (known != precomputed.poses.end()) {
-      merged[pose] = std::move(known->second);
-      precomputed.poses.erase(known);
-    } else {
-      merged[pose] = MergePose(session.dir, step, pose, frames, seconds);
-    }
-  }
-  return merged;
-}
-
 std::vector<SessionView> ViewsOf(const Plan& plan, Step step, Step spectralon_step,
                                  const calib::ReferenceView& reference,
                                  const SessionGeometry& geometry, const SessionFrames& session,
                                  PrecomputedStages& precomputed, ProcessReport* report) {
   const SessionCalibration& calibration = report->calibration;
-  const std::map<int, PoseHdr> sample = PosesOf(step, session, precomputed, &report->hdr_s);
+  const std::map<int, PoseHdr> sample =
+      MergeStep(step, session, &report->hdr_s, &precomputed.poses);
   const std::map<int, PoseHdr> spectralon =
-      plan.spectralon ? PosesOf(spectralon_step, session, precomputed, &report->hdr_s)
+      plan.spectralon ? MergeStep(spectralon_step, session, &report->hdr_s, &precomputed.poses)
                       : std::map<int, PoseHdr>();
   double correspondence_s = 0;
   std::vector<SessionView> views;
@@ -78,10 +60,8 @@ std::vector<SessionView> ViewsOf(const Plan& plan, Step step, Step spectralon_st
     SessionView view;
     view.name = p.direction.empty() ? PoseName(step, pose) : p.direction;
     view.pose = pose;
-    const auto known = precomputed.correspondence.find({step, pose});
-    if (known != precomputed.correspondence.end()) {
-      view.correspondence = std::move(known->second);
-      precomputed.correspondence.erase(known);
+    if (auto known = precomputed.correspondence.extract({step, pose})) {
+      view.correspondence = std::move(known.mapped());
     } else {
       view.correspondence =
           PoseCorrespondence(session.dir, step, pose, reference, calibrated, &correspondence_s);
