@@ -36,7 +36,11 @@ std::vector<Eigen::Vector3d> SamplePoints(const ReferenceView& ref) {
 }
 
 FloatPlanes ComputeCorrespondence(const ReferenceView& ref, const CalibratedView& view) {
-  const std::vector<Eigen::Vector3d> p = SamplePoints(ref);
+  return ComputeCorrespondence(ref, SamplePoints(ref), view);
+}
+
+FloatPlanes ComputeCorrespondence(const ReferenceView& ref, const std::vector<Eigen::Vector3d>& p,
+                                  const CalibratedView& view) {
   FloatPlanes out;
   out.width = ref.width ? ref.width : ref.camera.width();
   out.height = ref.height ? ref.height : ref.camera.height();

@@ -411,6 +411,12 @@ TEST_CASE("session: a whole simulated session, scored; kill -9 and resume give t
     CHECK(ten.info.components == 10);
     CHECK(ten.planes.size() == SvbrdfChannelNames(10).size());
     CHECK(JsonNumbers(ReadText(base + "/k10/report.json"), "relative_rms").size() == 3);
+    // From the reconstruction on, the session's correspondence maps are reused as acqd wrote
+    // them: acqd computed them from the calibration as its files hold it (a map computed again
+    // would record the inputs it was computed from, and differ where those were rounded).
+    for (const fs::directory_entry& e : fs::directory_iterator(session + "/correspondence"))
+      CHECK(ReadText(base + "/k10/correspondence/" + e.path().filename().string()) ==
+            ReadText(e.path().string()));
     CHECK(ReadText(session + "/svbrdf.exr") == map_before);
     CHECK(FrameMeans(session) == reference);
 

@@ -3,7 +3,7 @@
 # scratch (capture, processing, report), then where its time went and the daemon's own overhead
 # as a share of it (report.txt), the figures below, and a chart of the breakdown
 # (OUT/time.png).
-#   tools/bench_session.sh [--full-size] [PLAN]
+#   [ACQD=path/to/acqd] tools/bench_session.sh [--full-size] [PLAN]
 #     PLAN         default examples/plan-sim.yaml; needs its basis (tools/run-main.sh builds
 #                  out/main/basis90.acqb)
 #     --full-size  the simulated camera at 2048 x 2048 and the gantry at real speed
@@ -37,7 +37,7 @@ if [ $full = 1 ]; then
     "$out/plan.yaml"
 fi
 /usr/bin/time -v -o "$out/time.txt" \
-  build/src/daemon/acqd --session "$out/plan.yaml" --socket "$out/acqd.sock" > "$out/acqd.log"
+  "${ACQD:-build/src/daemon/acqd}" --session "$out/plan.yaml" --socket "$out/acqd.sock" > "$out/acqd.log"
 cat "$session/report.txt"
 /usr/bin/python3 - "$session/report.json" "$out/time.txt" "$out/time.png" <<'PY'
 import json, re, sys

@@ -19,23 +19,32 @@ float Sample(const ViewImage& im, double x, double y) {
   const double fx = x - x0, fy = y - y0;
   const std::size_t i = std::size_t(y0) * std::size_t(im.width) + std::size_t(x0);
   const std::size_t w = std::size_t(im.width);
-  if (!im.unusable.empty() &&
-      (im.unusable[i] || im.unusable[i + 1] || im.unusable[i + w] || im.unusable[i + w + 1]))
-    return kNaN;
-  const float* r = im.radiance.data();
+  if (im.unusable && !im.unusable->empty()) {
+    const std::uint8_t* u = im.unusable->data();
+    if (u[i] || u[i + 1] || u[i + w] || u[i + w + 1]) return kNaN;
+  }
+  const float* r = im.radiance->data();
   return float((1 - fy) * ((1 - fx) * r[i] + fx * r[i + 1]) +
                fy * ((1 - fx) * r[i + w] + fx * r[i + w + 1]));
 }
 
 void CheckImage(const ViewImage& im, const std::string& what) {
-  if (im.radiance.size() != std::size_t(im.width) * std::size_t(im.height))
+  const std::size_t values = im.radiance ? im.radiance->size() : 0;
+  if (values != std::size_t(im.width) * std::size_t(im.height))
     throw UserError(what, "image of " + std::to_string(im.width) + "x" + std::to_string(im.height) +
-                              " has " + std::to_string(im.radiance.size()) + " values");
-  if (!im.unusable.empty() && im.unusable.size() != im.radiance.size())
+                              " has " + std::to_string(values) + " values");
+  if (im.unusable && !im.unusable->empty() && im.unusable->size() != values)
     throw UserError(what, "flags do not match the image's size");
 }
 
 }  // namespace
+
+ViewImage::ViewImage(int width, int height, std::vector<float> radiance,
+                     std::vector<std::uint8_t> unusable)
+    : width(width),
+      height(height),
+      radiance(std::make_shared<const std::vector<float>>(std::move(radiance))),
+      unusable(std::make_shared<const std::vector<std::uint8_t>>(std::move(unusable))) {}
 
 CorrespondenceSource::CorrespondenceSource(std::vector<SessionView> views, double pixel_size_mm)
     : views_(std::move(views)), pixel_size_mm_(pixel_size_mm) {
@@ -51,7 +60,7 @@ CorrespondenceSource::CorrespondenceSource(std::vector<SessionView> views, doubl
       v.correspondence.Plane(plane, v.name);  // throws naming the missing plane
     for (int c = 0; c < 3; ++c) {
       CheckImage(v.sample[c], v.name + " (sample image)");
-      if (!v.spectralon[c].radiance.empty()) CheckImage(v.spectralon[c], v.name + " (Spectralon)");
+      if (!v.spectralon[c].empty()) CheckImage(v.spectralon[c], v.name + " (Spectralon)");
     }
   }
 }
@@ -76,7 +85,7 @@ PixelObservations CorrespondenceSource::Rows(int y0, int rows) {
                &iz = m.Plane("wi.z", view.name);
     const auto &ox = m.Plane("wo.x", view.name), &oy = m.Plane("wo.y", view.name),
                &oz = m.Plane("wo.z", view.name);
-    const bool spectralon = !view.spectralon[0].radiance.empty();
+    const bool spectralon = !view.spectralon[0].empty();
 #pragma omp parallel for schedule(static)
     for (int p = 0; p < rows * width_; ++p) {
       const std::size_t q = std::size_t(y0) * std::size_t(width_) + std::size_t(p);

@@ -14,6 +14,7 @@
 
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -25,10 +26,18 @@
 namespace acq {
 
 // One colour channel of one view: an HDR image (linear, any consistent unit) and its flags.
+// The pixels are shared and read-only: a mono camera's three channels are one image, and a view
+// is moved or copied without its pixels (a 2048 x 2048 channel is 20 MB).
 struct ViewImage {
+  ViewImage() = default;
+  ViewImage(int width, int height, std::vector<float> radiance,
+            std::vector<std::uint8_t> unusable = {});
+  bool empty() const { return !radiance || radiance->empty(); }
+
   int width = 0, height = 0;
-  std::vector<float> radiance;
-  std::vector<std::uint8_t> unusable;  // non-zero: saturated or dark in every frame (may be empty)
+  std::shared_ptr<const std::vector<float>> radiance;
+  // Non-zero: saturated or dark in every frame; null or empty: every pixel usable.
+  std::shared_ptr<const std::vector<std::uint8_t>> unusable;
 };
 
 struct SessionView {

@@ -245,8 +245,9 @@ int CalibrateCorrespondence(const Argv& argv) {
   }
   const std::filesystem::path dir = args.Required("o");
   std::filesystem::create_directories(dir);
+  const std::vector<Eigen::Vector3d> points = SamplePoints(ref);  // the same for every view
   for (std::size_t i = 0; i < views.size(); ++i) {
-    FloatPlanes map = ComputeCorrespondence(ref, {camera, views[i].pose, views[i].light});
+    FloatPlanes map = ComputeCorrespondence(ref, points, {camera, views[i].pose, views[i].light});
     map.attributes["acqView"] = views[i].name;
     map.attributes["acqReferenceView"] = reference_name;
     map.attributes["acqCameraModel"] = args.Get("camera");

@@ -32,10 +32,10 @@ void BackgroundProcessing::BoardsCaptured(SessionFrames session) {
   worker_.Post([this, session = std::move(session)] {
     double seconds = 0;
     SessionCalibration c = CalibrateSession(plan_, session, &seconds);
-    const calib::ReferenceView reference = ReferenceViewOf(plan_, c.camera);
+    SessionReference reference(ReferenceViewOf(plan_, c.camera));
     std::lock_guard<std::mutex> done(mutex_);
     calibration_ = std::move(c);
-    reference_ = reference;
+    reference_.emplace(std::move(reference));
     results_.correspondence.clear();  // made for no calibration or another one
   });
 }

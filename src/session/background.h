@@ -16,6 +16,7 @@
 #include "session/process.h"
 #include "session/serial_worker.h"
 #include "session/session_calibration.h"
+#include "session/view_correspondence.h"
 
 namespace acq {
 
@@ -39,7 +40,7 @@ class BackgroundProcessing {
   const Plan plan_;
   mutable std::mutex mutex_;  // results_ and poses_merged_, read by the capture's thread
   std::optional<SessionCalibration> calibration_;  // set and read by the worker
-  std::optional<calib::ReferenceView> reference_;  // the calibrated camera's, with it
+  std::optional<SessionReference> reference_;      // the calibrated camera's, with it
   PrecomputedStages results_;                      // merges and correspondence, for Finish()
   int poses_merged_ = 0;
   SerialWorker worker_{SerialWorker::OnFailure::kDrop};  // last: goes first

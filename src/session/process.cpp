@@ -28,28 +28,27 @@ namespace {
 namespace fs = std::filesystem;
 
 // A mono camera: one image for R, G and B.
-std::array<ViewImage, 3> Channels(const HdrImage& hdr) {
+std::array<ViewImage, 3> Channels(HdrImage&& hdr) {
   std::vector<std::uint8_t> unusable(hdr.flag.size());
   for (std::size_t i = 0; i < unusable.size(); ++i) unusable[i] = hdr.flag[i] != kHdrOk;
-  const ViewImage image{hdr.width, hdr.height, hdr.radiance, unusable};
-  return {image, image, image};
+  const ViewImage image(hdr.width, hdr.height, std::move(hdr.radiance), std::move(unusable));
+  return {image, image, image};  // the same pixels thrice: a mono camera
 }
 
 // The views of `step` (with the Spectralon captures of `spectralon_step` where there are any):
 // each pose's correspondence map, from the camera pose its board capture gave.
 std::vector<SessionView> ViewsOf(const Plan& plan, Step step, Step spectralon_step,
-                                 const calib::ReferenceView& reference,
-                                 const SessionGeometry& geometry, const SessionFrames& session,
-                                 PrecomputedStages& precomputed, ProcessReport* report) {
+                                 SessionReference& reference, const SessionGeometry& geometry,
+                                 const SessionFrames& session, PrecomputedStages& precomputed,
+                                 ProcessReport* report) {
   const SessionCalibration& calibration = report->calibration;
-  const std::map<int, PoseHdr> sample =
-      MergeStep(step, session, &report->hdr_s, &precomputed.poses);
-  const std::map<int, PoseHdr> spectralon =
+  std::map<int, PoseHdr> sample = MergeStep(step, session, &report->hdr_s, &precomputed.poses);
+  std::map<int, PoseHdr> spectralon =
       plan.spectralon ? MergeStep(spectralon_step, session, &report->hdr_s, &precomputed.poses)
                       : std::map<int, PoseHdr>();
   double correspondence_s = 0;
   std::vector<SessionView> views;
-  for (const auto& [pose, p] : sample) {
+  for (auto& [pose, p] : sample) {
     const BoardPoseResult* board = calibration.PoseOf(step, pose);
     if (!board) {
       report->views_left_out.push_back(PoseName(step, pose));
@@ -66,13 +65,13 @@ std::vector<SessionView> ViewsOf(const Plan& plan, Step step, Step spectralon_st
       view.correspondence =
           PoseCorrespondence(session.dir, step, pose, reference, calibrated, &correspondence_s);
     }
-    view.sample = Channels(p.hdr);
+    view.sample = Channels(std::move(p.hdr));
     if (plan.spectralon) {
       const auto s = spectralon.find(pose);
       if (s == spectralon.end())
         throw UserError(session.dir, "no Spectralon capture of " + view.name,
                         "run acqd again with the same plan to capture what is missing");
-      view.spectralon = Channels(s->second.hdr);
+      view.spectralon = Channels(std::move(s->second.hdr));
     }
     view.light_in_sample_mm = calibrated.light_in_sample_mm;
     view.light_intensity = geometry.light_intensity;
@@ -118,11 +117,10 @@ ProcessReport ProcessSession(const Plan& plan, SessionCatalog& catalog,
   const calib::CameraModel& camera = report.calibration.camera;
 
   // The reference view, the pixel grid the maps are on.
-  const calib::ReferenceView reference = ReferenceViewOf(plan, camera);
+  SessionReference reference(ReferenceViewOf(plan, camera));
   report.pixel_size_mm = plan.gantry.camera_distance_mm / camera.intrinsics()[0];
-  report.reference_width = reference.width;
-  report.reference_height = reference.height;
-  report.sample_points = calib::SamplePoints(reference);
+  report.reference_width = reference.view().width;
+  report.reference_height = reference.view().height;
 
   std::vector<SessionView> views = ViewsOf(plan, Step::kSample, Step::kSpectralon, reference,
                                            geometry, session, precomputed, &report);

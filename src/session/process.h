@@ -53,7 +53,6 @@ struct ProcessReport {
   std::vector<std::string> views_left_out;  // poses whose board was not found
   int reference_width = 0, reference_height = 0;
   double pixel_size_mm = 0;
-  std::vector<Eigen::Vector3d> sample_points;  // of the reference pixels (mm, sample frame)
   ReconstructionReport reconstruction;
   std::vector<ValidationSummary> validation;
 };

@@ -158,10 +158,11 @@ void RecordFailure(const std::exception& e, bool stopped, Gantry* gantry, Sessio
 SessionReport RunSession(const Plan& plan, StatusChannel& control, SessionStatus& status,
                          const SessionHooks& hooks) {
   const auto session_start = SteadyClock::now();
+  // Each phase in the log with the session's time at its start, so a log says where time went.
   const Phase phase = [&](const std::string& what) {
     status.step = what;
     control.Publish(status);
-    std::printf("%s\n", what.c_str());
+    std::printf("[%7.1f s] %s\n", SecondsSince(session_start), what.c_str());
     std::fflush(stdout);
   };
   // The session is this run's from here to its end: a second acqd (or a repair) is refused.

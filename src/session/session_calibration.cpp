@@ -192,6 +192,15 @@ SessionCalibration CalibrateSession(const Plan& plan, const SessionFrames& sessi
   }
   calib::WriteCornersCache(dir + "/calibration/corners.vnl", all);
   WriteExtrinsics(c, dir + "/calibration/extrinsics.tsv");
+  // Later stages use the geometry as written, to its last bit (the files round it): the session
+  // processed again from its files (`acq session process`) then computes what this run did, and
+  // reuses its correspondence maps, which record their inputs (view_correspondence.h).
+  const SessionCalibration written = ReadSessionCalibration(dir);
+  c.camera = written.camera;
+  for (std::size_t i = 0; i < c.boards.size(); ++i) {
+    c.boards[i].cam_from_sample = written.boards[i].cam_from_sample;
+    c.boards[i].arms = written.boards[i].arms;
+  }
   return c;
 }
 

@@ -48,7 +48,9 @@ struct SessionCalibration {
   const BoardPoseResult* PoseOf(Step step, int pose) const;
 };
 
-// Throws UserError (what to recapture) when the intrinsics cannot be solved.
+// The camera and the poses returned are those the files hold (read back after writing them):
+// what a later `acq session process` reads, to the last bit. Throws UserError (what to
+// recapture) when the intrinsics cannot be solved.
 SessionCalibration CalibrateSession(const Plan& plan, const SessionFrames& session,
                                     double* hdr_seconds);
 

@@ -69,12 +69,17 @@ calib::CalibratedView CalibratedViewOf(const Plan& plan, const calib::CameraMode
                                  plan.gantry.camera_distance_mm)};
 }
 
+const std::vector<Eigen::Vector3d>& SessionReference::points() {
+  if (!points_) points_ = calib::SamplePoints(view_);
+  return *points_;
+}
+
 FloatPlanes PoseCorrespondence(const std::string& session_dir, Step step, int pose,
-                               const calib::ReferenceView& reference,
-                               const calib::CalibratedView& view, double* seconds) {
+                               SessionReference& reference, const calib::CalibratedView& view,
+                               double* seconds) {
   const auto start = SteadyClock::now();
   const std::string path = session_dir + "/correspondence/" + PoseName(step, pose) + ".exr";
-  const std::string inputs = InputsText(reference, view);
+  const std::string inputs = InputsText(reference.view(), view);
   if (std::filesystem::is_regular_file(path)) {
     try {
       FloatPlanes known = ReadFloatPlanesExr(path);
@@ -86,7 +91,7 @@ FloatPlanes PoseCorrespondence(const std::string& session_dir, Step step, int po
     } catch (const std::exception&) {  // unreadable (a crash while writing it): computed again
     }
   }
-  FloatPlanes map = calib::ComputeCorrespondence(reference, view);
+  FloatPlanes map = calib::ComputeCorrespondence(reference.view(), reference.points(), view);
   map.attributes[kInputsAttribute] = inputs;
   std::filesystem::create_directories(session_dir + "/correspondence");
   WriteFloatPlanesExr(path, map);

@@ -7,7 +7,9 @@
 // process` are not computed again.
 #pragma once
 
+#include <optional>
 #include <string>
+#include <vector>
 
 #include "acq/plan.h"
 #include "calib/correspondence.h"
@@ -27,10 +29,23 @@ calib::ReferenceView ReferenceViewOf(const Plan& plan, const calib::CameraModel&
 calib::CalibratedView CalibratedViewOf(const Plan& plan, const calib::CameraModel& camera,
                                        const BoardPoseResult& board, const ArmAngles& arms);
 
+// The reference view with its pixels' points on the sample (calib::SamplePoints), computed on
+// first use and kept: they are the same for every view's map. One thread's.
+class SessionReference {
+ public:
+  explicit SessionReference(calib::ReferenceView view) : view_(std::move(view)) {}
+  const calib::ReferenceView& view() const { return view_; }
+  const std::vector<Eigen::Vector3d>& points();
+
+ private:
+  calib::ReferenceView view_;
+  std::optional<std::vector<Eigen::Vector3d>> points_;
+};
+
 // The pose's correspondence map, computed and written or read back when up to date; adds the
 // time taken to `*seconds`.
 FloatPlanes PoseCorrespondence(const std::string& session_dir, Step step, int pose,
-                               const calib::ReferenceView& reference,
-                               const calib::CalibratedView& view, double* seconds);
+                               SessionReference& reference, const calib::CalibratedView& view,
+                               double* seconds);
 
 }  // namespace acq
