@@ -160,8 +160,17 @@ const IssueSplit& Issue() {
   return data;
 }
 
-double MedianHeldOutError(const std::vector<std::size_t>& bins) {
-  RidgeOptions ridge;  // k = 20, eta = 40
+// The paper's ridge solve (k = 20, eta = 40), which the issue's bar and the numpy reference are
+// of; the product's defaults are chosen by cross-validation (kDefaultEta, basis.h).
+RidgeOptions PapersRidge() {
+  RidgeOptions ridge;
+  ridge.components = 20;
+  ridge.eta = 40;
+  return ridge;
+}
+
+double MedianHeldOutError(const std::vector<std::size_t>& bins,
+                          const RidgeOptions& ridge = PapersRidge()) {
   std::vector<double> errors;
   for (const auto& truth : Issue().held)
     for (const auto& e : EvaluateHomogeneous(Issue().basis.View(), truth, bins, ridge))
@@ -192,6 +201,7 @@ TEST_CASE("optimised 20 directions: condition number and held-out error no worse
           "[directions][accuracy]") {
   OptimizerOptions o;  // n = 20, k = 20, camera below 65 degrees, defaults otherwise
   o.progress = false;
+  o.eta = PapersRidge().eta;  // optimised for the ridge it is scored with
   const OptimizedDirections ours = OptimizeDirections(Issue().basis.View(), o);
   const BasisView basis = Issue().basis.View();
   const double seed_condition = ConditionOfBins(basis, SeedBins(), 20);

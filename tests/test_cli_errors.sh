@@ -63,6 +63,23 @@ expect_error "too many components" "only 3 rows" -- \
 expect_error "unknown option" "unknown option --frobnicate" -- \
   "$acq" basis build "$tmp/good" -o "$tmp/b" --frobnicate 3
 
+# Issue 18: a material given twice (the same name in two folders, or the same file twice) and a
+# held-out name that is in no folder: each refused, and no basis file written.
+mkdir -p "$tmp/twice"
+cp "$tmp/good/brass.binary" "$tmp/twice/"
+expect_error "a material twice (same name)" "material 'brass' is given twice" -- \
+  "$acq" basis build "$tmp/good" "$tmp/twice" -o "$tmp/twice.acqb" --components 3 --quiet
+expect_error "a material twice (same file)" "is given twice" -- \
+  "$acq" basis build "$tmp/good/brass.binary" "$tmp/good/brass.binary" -o "$tmp/twice.acqb" \
+  --components 3 --quiet
+expect_error "a held-out name in no folder" "--holdout no-such-ink" "no material of that name" -- \
+  "$acq" basis build "$tmp/good" --holdout no-such-ink -o "$tmp/twice.acqb" --components 3 --quiet
+if [ -e "$tmp/twice.acqb" ]; then
+  failures=$((failures + 1)); echo "FAIL: a refused basis build left a basis file"
+else
+  passed=$((passed + 1)); echo "ok: refused basis builds wrote nothing"
+fi
+
 "$acq" basis build "$tmp/good" -o "$tmp/one.acqb" --components 3 --quiet >/dev/null
 expect_error "direction below the horizon" "below.tsv:3" "below the horizon" -- \
   "$acq" basis eval --basis "$tmp/one.acqb" --directions "$tmp/below.tsv" --k 3 --all-given "$tmp/good"

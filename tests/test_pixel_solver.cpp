@@ -542,8 +542,8 @@ TEST_CASE("pixels solved in SIMD lanes equal pixels solved one at a time", "[pix
          << worst_residual << "; validity differs at " << valid_differ << " of " << obs.pixels);
     if (!single) {
       // The same arithmetic in another order and with fused multiply-adds: the coefficients
-      // are stored as float32 (6e-8) and the ridge solve is well conditioned (eta = 40), so
-      // 1e-6 leaves room for rounding and none for a wrong row or a misplaced observation.
+      // are stored as float32 (6e-8) and the ridge solve is well conditioned (eta = kDefaultEta),
+      // so 1e-6 leaves room for rounding and none for a wrong row or a misplaced observation.
       CHECK(worst_coeff < 1e-6);
       CHECK(worst_residual < 1e-6);
       // Condition numbers are estimates that stop once a step moves the Rayleigh quotient by

@@ -5,7 +5,7 @@
 # (OUT/time.png).
 #   [ACQD=path/to/acqd] tools/bench_session.sh [--full-size] [PLAN]
 #     PLAN         default examples/plan-sim.yaml; needs its basis (tools/run-main.sh builds
-#                  out/main/basis90.acqb)
+#                  out/main/basis116.acqb)
 #     --full-size  the simulated camera at 2048 x 2048 and the gantry at real speed
 #                  (sim.image_size [2048, 2048], sim.time_scale 1): the full-size session of
 #                  issue 21, into out/bench/session-full

@@ -27,7 +27,7 @@ const std::map<std::string, Command>& Commands() {
         "  Hold out every N-th material by sorted name starting at 0-based I, and/or by name."}},
       {"basis eval",
        {BasisEval,
-        "acq basis eval --basis BASIS --directions TSV [MATERIALS...] [--k 20] [--eta 40]\n"
+        "acq basis eval --basis BASIS --directions TSV [MATERIALS...] [--k 20] [--eta 20]\n"
         "               [--write-recon DIR] [--csv FILE] [--all-given]\n"
         "  Reconstructs each material (default: the basis's held-out set, found in MATERIALS or\n"
         "  data/nbrdf/merl) from its values at the directions and prints per-channel errors;\n"
@@ -48,12 +48,12 @@ const std::map<std::string, Command>& Commands() {
         "    [--max-camera-zenith-deg 65] [--max-light-zenith-deg 85] [--min-separation-deg 20]\n"
         "    [--unconstrained] [--fov-deg F | --sample-size-mm S] [--camera-distance-mm 1000]\n"
         "    [--light-distance-mm 1000] [--fov-grid 3] [--fov-objective worst|mean]\n"
-        "    [--score expected-error|condition] [--eta 40] [--max-condition 200] [--quiet]\n"
+        "    [--score expected-error|condition] [--eta 20] [--max-condition 200] [--quiet]\n"
         "  Minimises the condition number of the sampled basis rows (NJR15), under the gantry's\n"
         "  constraints; with a field of view, the worst (or mean) over positions on the sample."}},
       {"directions eval",
        {DirectionsEval,
-        "acq directions eval --basis BASIS --directions TSV [MATERIALS...] [--k n] [--eta 40]\n"
+        "acq directions eval --basis BASIS --directions TSV [MATERIALS...] [--k n] [--eta 20]\n"
         "    [--fov-deg 0,4,10 | --sample-size-mm S] [--camera-distance-mm 1000]\n"
         "    [--light-distance-mm 1000] [--grid 10] [--ignore-near-field] [--noise 0,0.05]\n"
         "    [--noise-trials 8] [--seed 1] [--csv FILE --label L] [--all-given]\n"
@@ -72,7 +72,7 @@ const std::map<std::string, Command>& Commands() {
        {ReconstructSynthetic,
         "acq reconstruct synthetic --basis BASIS --directions TSV -o MAP.exr [--size 256x256]\n"
         "    [--materials NAME,...] [--materials-dir data/nbrdf/merl] [--fov-deg 4]\n"
-        "    [--camera-distance-mm 1000] [--light-distance-mm 1000] [--k 20] [--eta 40]\n"
+        "    [--camera-distance-mm 1000] [--light-distance-mm 1000] [--k 20] [--eta 20]\n"
         "    [--lookup nearest|interpolated] [--band-rows 64] [--noise 0] [--seed 1]\n"
         "    [--ignore-near-field] [--truth-tables] [--score] [--row-tile 1] [--dump DIR]\n"
         "    [--kernel lanes|lanes-single|one-pixel] [--max-condition C] [--min-observations N]\n"
