@@ -113,6 +113,22 @@ mkfifo "$tmp/fifo.yaml"
 expect "a FIFO as the plan" 1 fifo.yaml --dry-run -- "fifo.yaml" "not a regular file"
 mkdir "$tmp/folder.yaml"
 expect "a folder as the plan" 1 folder.yaml --dry-run -- "folder.yaml" "not a regular file"
+# Issue 17: the dry run says where on the sample the directions hold up. At 40 mm the seed's
+# 20 directions keep the 4 components well conditioned everywhere; its first 4 directions alone
+# on a sample of 600 mm at 1 m are near-singular at an edge (measured: 431 at the centre, 5.2e4
+# there, past the reconstruction's limit of 1e4), which the warning names.
+expect "directions over the sample" 0 good.yaml --dry-run -- \
+  "over the sample (11 x 11 positions, corner to corner; k = 4): condition number"
+grep -v '^#' "$tmp/directions.tsv" | head -5 > "$tmp/four.tsv"  # the header and 4 directions
+variant wide_sample 's/size_mm: \[40, 40\]/size_mm: [600, 600]/; s/file: directions.tsv/file: four.tsv/'
+expect "directions near-singular somewhere on the sample" 0 wide_sample.yaml --dry-run -- \
+  "warning: at (" "mm of the sample the directions' rows are poorly conditioned" \
+  "choose the directions for this sample: directions.optimize"
+if "$acqd" --session "$tmp/good.yaml" --dry-run 2>&1 | grep -q "^warning: at ("; then
+  failures=$((failures + 1)); echo "FAIL: a warning for directions that hold up over the sample"
+else
+  passed=$((passed + 1)); echo "ok: no warning where the directions hold up"
+fi
 if grep -rq ':0:0' <("$acqd" --session "$tmp/missing_section_key.yaml" --dry-run 2>&1); then
   failures=$((failures + 1)); echo "FAIL: a place 0:0"
 fi

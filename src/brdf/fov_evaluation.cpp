@@ -71,12 +71,11 @@ FovResult EvaluateOverFov(const HeldOutSet& h, const std::vector<Direction>& dir
     // The bins this position really sees; a direction whose near-field version falls below the
     // horizon at this position gives no observation there.
     std::vector<std::size_t> seen, used_rows;
-    for (std::size_t i = 0; i < arms.size(); ++i) {
-      const DirectionPair d = o.geometry.DirectionsAt(arms[i], positions[p]);
-      const std::size_t bin = merl::BinOf(IsotropicAnglesFromDirections(d.in, d.out)).Flat();
-      if (!AboveHorizon(d) || !basis.valid[bin]) continue;
-      seen.push_back(bin);
-      used_rows.push_back(o.ignore_near_field ? centre_bins[i] : bin);
+    const std::vector<long> bins = BinsSeenAt(basis, arms, o.geometry, positions[p]);
+    for (std::size_t i = 0; i < bins.size(); ++i) {
+      if (bins[i] < 0) continue;
+      seen.push_back(std::size_t(bins[i]));
+      used_rows.push_back(o.ignore_near_field ? centre_bins[i] : std::size_t(bins[i]));
     }
     const Eigen::MatrixXd qs = SampledRows(basis, used_rows, k);
     const Eigen::VectorXd mus = SampledMean(basis, used_rows);
@@ -106,6 +105,40 @@ FovResult EvaluateOverFov(const HeldOutSet& h, const std::vector<Direction>& dir
   const Eigen::MatrixXd a = normal.ldlt().solve(qs.transpose());
   result.noise_gain = h.NoiseGain(a);
   return result;
+}
+
+std::vector<long> BinsSeenAt(const BasisView& basis, const std::vector<DirectionPair>& far,
+                             const NearFieldGeometry& geometry, const Eigen::Vector2d& position) {
+  std::vector<long> bins;
+  for (const DirectionPair& arms : far) {
+    const DirectionPair d = geometry.DirectionsAt(arms, position);
+    const std::size_t bin = merl::BinOf(IsotropicAnglesFromDirections(d.in, d.out)).Flat();
+    bins.push_back(AboveHorizon(d) && basis.valid[bin] ? long(bin) : -1);
+  }
+  return bins;
+}
+
+std::vector<PositionCondition> ConditionOverSample(const BasisView& basis,
+                                                   const std::vector<Direction>& directions,
+                                                   const NearFieldGeometry& geometry, int grid,
+                                                   int k) {
+  std::vector<DirectionPair> far;
+  for (const Direction& d : directions) far.push_back(DirectionsOf(ArmAnglesFor(d.angles)));
+  std::vector<PositionCondition> out;
+  for (const Eigen::Vector2d& p : geometry.Positions(grid, /*to_edges=*/true)) {
+    PositionCondition c{p, 0, {}};
+    std::vector<std::size_t> seen;
+    const std::vector<long> bins = BinsSeenAt(basis, far, geometry, p);
+    for (std::size_t i = 0; i < bins.size(); ++i) {
+      if (bins[i] < 0)
+        c.lost.push_back(int(i));
+      else
+        seen.push_back(std::size_t(bins[i]));
+    }
+    c.condition = ConditionOfBins(basis, seen, k);  // infinite with fewer rows than k
+    out.push_back(std::move(c));
+  }
+  return out;
 }
 
 }  // namespace acq

@@ -1,10 +1,15 @@
 #include "session/dry_run.h"
 
+#include <algorithm>
+#include <cmath>
 #include <cstdarg>
 #include <cstdio>
 
 #include "acq/move_planner.h"
 #include "acq/plan_checks.h"
+#include "brdf/basis_file.h"
+#include "brdf/fov_evaluation.h"
+#include "brdf/pixel_solver.h"
 #include "calib/camera_model.h"
 #include "core/angles.h"
 #include "core/error.h"
@@ -68,6 +73,47 @@ std::string Schedule(const Plan& plan, const SessionVisits& visits, double* tota
   return out;
 }
 
+// The plan's directions over its sample (issue 17): the condition number of the rows that each
+// of 11 x 11 positions from corner to corner sees, with the arms' distances (the near field), on
+// the plan's basis and k; a warning naming the worst position, and what it loses, where the
+// reconstruction would mark pixels not valid (PixelSolveOptions::max_condition). The sample is
+// taken as a square of its longer side, as the plan's optimiser scores it.
+std::string OverTheSample(const Plan& plan) {
+  constexpr int kGrid = 11;
+  const MappedBasis mapped = MappedBasis::Open(plan.reconstruction.basis_file);
+  const int k = std::min(plan.reconstruction.components, mapped.View().components);
+  const NearFieldGeometry geometry{plan.gantry.camera_distance_mm, plan.gantry.light_distance_mm,
+                                   std::max(plan.sample.width_mm, plan.sample.height_mm)};
+  const std::vector<PositionCondition> positions =
+      ConditionOverSample(mapped.View(), plan.directions, geometry, kGrid, k);
+  const PositionCondition& centre = positions[positions.size() / 2];
+  const PositionCondition& worst =
+      *std::max_element(positions.begin(), positions.end(),
+                        [](const PositionCondition& a, const PositionCondition& b) {
+                          return a.condition < b.condition;
+                        });
+  std::string out;
+  Append(&out,
+         "over the sample (%d x %d positions, corner to corner; k = %d): condition number %.4g "
+         "at the centre, worst %.4g at (%.1f, %.1f) mm\n",
+         kGrid, kGrid, k, centre.condition, worst.condition, worst.position_mm.x(),
+         worst.position_mm.y());
+  const double limit = PixelSolveOptions{}.max_condition;
+  if (!(worst.condition > limit)) return out;
+  std::string lost;
+  for (int i : worst.lost) lost += (lost.empty() ? "" : ", ") + plan.directions[i].where;
+  Append(&out,
+         "warning: at (%.1f, %.1f) mm of the sample the directions' rows are %s (condition "
+         "number %.4g, the reconstruction's limit %.0f): its pixels will come out not valid",
+         worst.position_mm.x(), worst.position_mm.y(),
+         std::isinf(worst.condition) ? "singular" : "poorly conditioned", worst.condition, limit);
+  if (!lost.empty()) out += "; it loses " + lost + " (below the horizon or in a masked bin there)";
+  out +=
+      ".\n  choose the directions for this sample: directions.optimize (scored over the sample), "
+      "or `acq directions optimize --sample-size-mm S --fov-objective worst`\n";
+  return out;
+}
+
 }  // namespace
 
 void CheckSessionInputs(const Plan& plan) {
@@ -93,6 +139,7 @@ std::string DryRunText(const Plan& plan) {
   const SessionVisits visits = PlanVisits(plan);
   const VisitPlan naive = PlanInFileOrder(plan.directions, plan.gantry.motion);
   out += VisitingOrder(plan, visits.sample) + "\n";
+  out += OverTheSample(plan) + "\n";
   double total_s = 0;
   out += Schedule(plan, visits, &total_s);
   out +=
