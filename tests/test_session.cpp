@@ -351,8 +351,8 @@ TEST_CASE("session: a whole simulated session, scored; kill -9 and resume give t
   CHECK(median < 1.2 * direct);
   // The validation views: the map's renders against captures it never saw. They can match no
   // better than the reconstruction does at those directions (these two materials with this
-  // 40-material basis: measured 0.11 to 0.18 relative RMS; 0.06 to 0.08 with the 90-material
-  // basis of the main run); 0.25 still catches a wrong radiometry (a lost factor of pi is 2.1)
+  // 40-material basis: measured 0.11 to 0.18 relative RMS; 0.07 to 0.10 with the main run's
+  // default basis); 0.25 still catches a wrong radiometry (a lost factor of pi is 2.1)
   // or a view misaligned by a few pixels along the card's sharp edges.
   const std::vector<double> validation = JsonNumbers(report, "relative_rms");
   REQUIRE(validation.size() == 3);
