@@ -247,7 +247,8 @@ int CalibrateCorrespondence(const Argv& argv) {
   std::filesystem::create_directories(dir);
   const std::vector<Eigen::Vector3d> points = SamplePoints(ref);  // the same for every view
   for (std::size_t i = 0; i < views.size(); ++i) {
-    FloatPlanes map = ComputeCorrespondence(ref, points, {camera, views[i].pose, views[i].light});
+    const CalibratedView view{camera, views[i].pose, views[i].light, std::nullopt};
+    FloatPlanes map = ComputeCorrespondence(ref, points, view);
     map.attributes["acqView"] = views[i].name;
     map.attributes["acqReferenceView"] = reference_name;
     map.attributes["acqCameraModel"] = args.Get("camera");

@@ -84,13 +84,13 @@ struct CaptureContext {
   // follows the confirmation (the simulated world). Without asking, `place` places it.
   bool ask_operator = true;
   std::function<void(const Placement&)> place;
-  std::optional<Placement> placed;  // known to be under the gantry (none after a restart)
-  int prompts_shown = 0;            // operator prompts shown by this run: the next one's id
+  std::optional<Placement> placed{};  // known to be under the gantry (none after a restart)
+  int prompts_shown = 0;              // operator prompts shown by this run: the next one's id
   // Told when a pose's frames are all in the session (taken now or before; on the writer's
   // thread, once they are recorded), and when a step is captured (on the capture's thread, its
   // frames all recorded): processing that can start then (background.h).
-  std::function<void(Step step, int pose)> pose_captured;
-  std::function<void(Step step)> step_captured;
+  std::function<void(Step step, int pose)> pose_captured{};
+  std::function<void(Step step)> step_captured{};
   int poses_done = 0, poses_total = 0;  // for the progress over the whole session
   int poses_taken = 0;                  // this run: the rate the ETA is estimated from
   SteadyClock::time_point started = SteadyClock::now();

@@ -66,10 +66,15 @@ PrecomputedStages CaptureAll(const Plan& plan, SessionDevices& devices, SessionC
   // After the worker: destroyed first, it records what it has queued (an abort, a failure)
   // while the worker can still take the poses it completes.
   FrameWriter writer(catalog);
-  CaptureContext context{*devices.gantry, *devices.camera, catalog,          writer,
-                         control,         status,          devices.gantry_id};
-  context.ask_operator = devices.ask_operator;
-  context.place = devices.place;
+  CaptureContext context{.gantry = *devices.gantry,
+                         .camera = *devices.camera,
+                         .catalog = catalog,
+                         .writer = writer,
+                         .control = control,
+                         .status = status,
+                         .gantry_id = devices.gantry_id,
+                         .ask_operator = devices.ask_operator,
+                         .place = devices.place};
   const Step last_board_step = plan.validation.empty() ? Step::kBoard : Step::kBoardValidation;
   context.pose_captured = [&](Step step, int pose) {
     background.PoseCaptured(catalog.directory(), step, pose, catalog.FramesOf(step, pose));
