@@ -96,6 +96,25 @@ void WriteComparison(const ValidationResult& r, const std::string& path) {
   WritePng(both, path);
 }
 
+// The map from the sample's views into svbrdf.exr. The views are released on return (their
+// images are 2 GB at 2048 x 2048), before the validation needs memory of its own.
+ReconstructionReport ReconstructMap(const Plan& plan, const MappedBasis& mapped,
+                                    std::vector<SessionView> views, double pixel_size_mm,
+                                    const std::string& dir) {
+  CorrespondenceSource source(std::move(views), pixel_size_mm);
+  ReconstructionOptions options;
+  options.solve.components = plan.reconstruction.components;
+  options.solve.eta = plan.reconstruction.eta;
+  options.solve.lookup = plan.reconstruction.lookup;
+  options.solve.row_tile = plan.reconstruction.row_tile;
+  options.progress = false;
+  SvbrdfMapInfo info;
+  info.basis = plan.reconstruction.basis_file;
+  info.basis_crc32 = mapped.Checksum();
+  info.camera_model = dir + "/calibration/camera.cameramodel";
+  return Reconstruct(mapped.View(), source, options, info, dir + "/svbrdf.exr");
+}
+
 }  // namespace
 
 ProcessReport ProcessSession(const Plan& plan, SessionCatalog& catalog,
@@ -127,19 +146,8 @@ ProcessReport ProcessSession(const Plan& plan, SessionCatalog& catalog,
   if (views.empty()) throw UserError(dir, "no sample frames to process");
 
   start = SteadyClock::now();
-  CorrespondenceSource source(std::move(views), report.pixel_size_mm);
   const MappedBasis mapped = MappedBasis::Open(plan.reconstruction.basis_file);
-  ReconstructionOptions options;
-  options.solve.components = plan.reconstruction.components;
-  options.solve.eta = plan.reconstruction.eta;
-  options.solve.lookup = plan.reconstruction.lookup;
-  options.solve.row_tile = plan.reconstruction.row_tile;
-  options.progress = false;
-  SvbrdfMapInfo info;
-  info.basis = plan.reconstruction.basis_file;
-  info.basis_crc32 = mapped.Checksum();
-  info.camera_model = dir + "/calibration/camera.cameramodel";
-  report.reconstruction = Reconstruct(mapped.View(), source, options, info, dir + "/svbrdf.exr");
+  report.reconstruction = ReconstructMap(plan, mapped, std::move(views), report.pixel_size_mm, dir);
   report.reconstruction_s = SecondsSince(start);
   catalog.Event("info", "reconstructed: svbrdf.exr");
 
