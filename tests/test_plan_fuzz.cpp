@@ -110,6 +110,10 @@ std::string Mutate(const std::string& text, std::mt19937_64& rng) {
   std::istringstream in(text);
   for (std::string l; std::getline(in, l);) lines.push_back(l);
   auto pick = [&](std::size_t n) { return std::size_t(rng() % n); };
+  // A plan cut to nothing by an earlier mutation: a stray line is all there is to change. (The
+  // mutations depend on the plan's text, which holds the checkout's and the temporary folder's
+  // paths, so an empty plan comes up in some checkouts only: rng() % 0 was a SIGFPE there.)
+  if (lines.empty()) return std::string(tokens[pick(std::size(tokens))]) + "\n";
   const std::size_t i = pick(lines.size());
   switch (rng() % 7) {
     case 0: {  // a value replaced
