@@ -19,10 +19,8 @@ float Sample(const ViewImage& im, double x, double y) {
   const double fx = x - x0, fy = y - y0;
   const std::size_t i = std::size_t(y0) * std::size_t(im.width) + std::size_t(x0);
   const std::size_t w = std::size_t(im.width);
-  if (im.unusable && !im.unusable->empty()) {
-    const std::uint8_t* u = im.unusable->data();
-    if (u[i] || u[i + 1] || u[i + w] || u[i + w + 1]) return kNaN;
-  }
+  if (const std::uint8_t* u = im.flags(); u && (u[i] || u[i + 1] || u[i + w] || u[i + w + 1]))
+    return kNaN;
   const float* r = im.radiance->data();
   return float((1 - fy) * ((1 - fx) * r[i] + fx * r[i + 1]) +
                fy * ((1 - fx) * r[i + w] + fx * r[i + w + 1]));
@@ -33,7 +31,7 @@ void CheckImage(const ViewImage& im, const std::string& what) {
   if (values != std::size_t(im.width) * std::size_t(im.height))
     throw UserError(what, "image of " + std::to_string(im.width) + "x" + std::to_string(im.height) +
                               " has " + std::to_string(values) + " values");
-  if (im.unusable && !im.unusable->empty() && im.unusable->size() != values)
+  if (im.flags() && im.unusable->size() != values)
     throw UserError(what, "flags do not match the image's size");
 }
 

@@ -33,6 +33,10 @@ struct ViewImage {
   ViewImage(int width, int height, std::vector<float> radiance,
             std::vector<std::uint8_t> unusable = {});
   bool empty() const { return !radiance || radiance->empty(); }
+  // The flags, or null where every pixel is usable.
+  const std::uint8_t* flags() const {
+    return unusable && !unusable->empty() ? unusable->data() : nullptr;
+  }
 
   int width = 0, height = 0;
   std::shared_ptr<const std::vector<float>> radiance;

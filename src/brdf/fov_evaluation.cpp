@@ -2,12 +2,39 @@
 
 #include <Eigen/Dense>
 #include <cmath>
+#include <optional>
 #include <random>
 
 #include "brdf/evaluation.h"
 #include "brdf/log_mapping.h"
 
 namespace acq {
+namespace {
+
+// The directions of each pose's arms seen from the sample centre (the far field).
+std::vector<DirectionPair> FarDirections(const std::vector<Direction>& directions) {
+  std::vector<DirectionPair> far;
+  for (const Direction& d : directions) far.push_back(DirectionsOf(ArmAnglesFor(d.angles)));
+  return far;
+}
+
+// The bin each direction gives at `position` on the sample (mm, sample frame): the near-field
+// version of its arms' directions; none where it falls below the horizon there or into a masked
+// bin, so gives no observation.
+std::vector<std::optional<std::size_t>> BinsSeenAt(const BasisView& basis,
+                                                   const std::vector<DirectionPair>& far,
+                                                   const NearFieldGeometry& geometry,
+                                                   const Eigen::Vector2d& position) {
+  std::vector<std::optional<std::size_t>> bins;
+  for (const DirectionPair& arms : far) {
+    const DirectionPair d = geometry.DirectionsAt(arms, position);
+    const std::size_t bin = merl::BinOf(IsotropicAnglesFromDirections(d.in, d.out)).Flat();
+    bins.push_back(AboveHorizon(d) && basis.valid[bin] ? std::optional(bin) : std::nullopt);
+  }
+  return bins;
+}
+
+}  // namespace
 
 HeldOutSet::HeldOutSet(const BasisView& basis, const std::vector<MerlBrdf>& materials)
     : basis_(basis) {
@@ -54,8 +81,7 @@ FovResult EvaluateOverFov(const HeldOutSet& h, const std::vector<Direction>& dir
   o.ridge.Check(basis);
   const int k = o.ridge.components;
   const std::vector<Eigen::Vector2d> positions = o.geometry.Positions(o.grid);
-  std::vector<DirectionPair> arms;  // far-field directions of each pose's arms
-  for (const Direction& d : directions) arms.push_back(DirectionsOf(ArmAnglesFor(d.angles)));
+  const std::vector<DirectionPair> arms = FarDirections(directions);
   const std::vector<std::size_t> centre_bins = BinsOf(directions);
 
   FovResult result;
@@ -71,11 +97,12 @@ FovResult EvaluateOverFov(const HeldOutSet& h, const std::vector<Direction>& dir
     // The bins this position really sees; a direction whose near-field version falls below the
     // horizon at this position gives no observation there.
     std::vector<std::size_t> seen, used_rows;
-    const std::vector<long> bins = BinsSeenAt(basis, arms, o.geometry, positions[p]);
+    const std::vector<std::optional<std::size_t>> bins =
+        BinsSeenAt(basis, arms, o.geometry, positions[p]);
     for (std::size_t i = 0; i < bins.size(); ++i) {
-      if (bins[i] < 0) continue;
-      seen.push_back(std::size_t(bins[i]));
-      used_rows.push_back(o.ignore_near_field ? centre_bins[i] : std::size_t(bins[i]));
+      if (!bins[i]) continue;
+      seen.push_back(*bins[i]);
+      used_rows.push_back(o.ignore_near_field ? centre_bins[i] : *bins[i]);
     }
     const Eigen::MatrixXd qs = SampledRows(basis, used_rows, k);
     const Eigen::VectorXd mus = SampledMean(basis, used_rows);
@@ -107,33 +134,21 @@ FovResult EvaluateOverFov(const HeldOutSet& h, const std::vector<Direction>& dir
   return result;
 }
 
-std::vector<long> BinsSeenAt(const BasisView& basis, const std::vector<DirectionPair>& far,
-                             const NearFieldGeometry& geometry, const Eigen::Vector2d& position) {
-  std::vector<long> bins;
-  for (const DirectionPair& arms : far) {
-    const DirectionPair d = geometry.DirectionsAt(arms, position);
-    const std::size_t bin = merl::BinOf(IsotropicAnglesFromDirections(d.in, d.out)).Flat();
-    bins.push_back(AboveHorizon(d) && basis.valid[bin] ? long(bin) : -1);
-  }
-  return bins;
-}
-
 std::vector<PositionCondition> ConditionOverSample(const BasisView& basis,
                                                    const std::vector<Direction>& directions,
                                                    const NearFieldGeometry& geometry, int grid,
                                                    int k) {
-  std::vector<DirectionPair> far;
-  for (const Direction& d : directions) far.push_back(DirectionsOf(ArmAnglesFor(d.angles)));
+  const std::vector<DirectionPair> far = FarDirections(directions);
   std::vector<PositionCondition> out;
   for (const Eigen::Vector2d& p : geometry.Positions(grid, /*to_edges=*/true)) {
     PositionCondition c{p, 0, {}};
     std::vector<std::size_t> seen;
-    const std::vector<long> bins = BinsSeenAt(basis, far, geometry, p);
+    const std::vector<std::optional<std::size_t>> bins = BinsSeenAt(basis, far, geometry, p);
     for (std::size_t i = 0; i < bins.size(); ++i) {
-      if (bins[i] < 0)
-        c.lost.push_back(int(i));
+      if (bins[i])
+        seen.push_back(*bins[i]);
       else
-        seen.push_back(std::size_t(bins[i]));
+        c.lost.push_back(int(i));
     }
     c.condition = ConditionOfBins(basis, seen, k);  // infinite with fewer rows than k
     out.push_back(std::move(c));

@@ -66,12 +66,6 @@ struct FovResult {
 FovResult EvaluateOverFov(const HeldOutSet& held_out, const std::vector<Direction>& directions,
                           const FovEvalOptions& options);
 
-// The bin each direction gives at `position` on the sample (mm, sample frame): the near-field
-// version of its arms' directions (`far`: DirectionsOf of each direction's arms); -1 where it
-// falls below the horizon there or into a masked bin, so gives no observation.
-std::vector<long> BinsSeenAt(const BasisView& basis, const std::vector<DirectionPair>& far,
-                             const NearFieldGeometry& geometry, const Eigen::Vector2d& position);
-
 // Where on the sample a set of directions holds up (issue 17): at each of grid x grid positions
 // from corner to corner, the condition number of the k rows it sees (infinite with fewer rows
 // than k) and the directions it loses (indices into `directions`).

@@ -80,6 +80,7 @@ std::string Schedule(const Plan& plan, const SessionVisits& visits, double* tota
 // taken as a square of its longer side, as the plan's optimiser scores it.
 std::string OverTheSample(const Plan& plan) {
   constexpr int kGrid = 11;
+  static_assert(kGrid % 2 == 1, "the middle position is the centre");
   const MappedBasis mapped = MappedBasis::Open(plan.reconstruction.basis_file);
   const int k = std::min(plan.reconstruction.components, mapped.View().components);
   const NearFieldGeometry geometry{plan.gantry.camera_distance_mm, plan.gantry.light_distance_mm,
