@@ -10,6 +10,7 @@
 #include <ImfStringAttribute.h>
 
 #include "core/error.h"
+#include "io/exr_settings.h"
 
 namespace acq {
 
@@ -24,7 +25,8 @@ const std::vector<float>& FloatPlanes::Plane(const std::string& name,
 
 void WriteFloatPlanesExr(const std::string& path, const FloatPlanes& image) {
   Imf::Header header(image.width, image.height);
-  header.compression() = Imf::ZIP_COMPRESSION;
+  header.compression() = kExrCompression;
+  UseExrThreads();
   Imf::FrameBuffer fb;
   for (const auto& [name, plane] : image.planes) {
     if (plane.size() != static_cast<std::size_t>(image.width) * image.height)
@@ -50,6 +52,7 @@ void WriteFloatPlanesExr(const std::string& path, const FloatPlanes& image) {
 FloatPlanes ReadFloatPlanesExr(const std::string& path, bool read_pixels) {
   FloatPlanes out;
   try {
+    UseExrThreads();
     Imf::InputFile file(path.c_str());
     const Imf::Header& h = file.header();
     const Imath::Box2i dw = h.dataWindow();

@@ -13,6 +13,7 @@
 #include <filesystem>
 
 #include "core/error.h"
+#include "io/exr_settings.h"
 
 namespace acq {
 namespace {
@@ -56,7 +57,8 @@ SvbrdfMapWriter::SvbrdfMapWriter(const std::string& path, const SvbrdfMapInfo& i
   impl_->info = info;
   impl_->names = SvbrdfChannelNames(info.components);
   Imf::Header header(info.width, info.height);
-  header.compression() = Imf::ZIP_COMPRESSION;
+  header.compression() = kExrCompression;
+  UseExrThreads();
   for (const std::string& n : impl_->names) header.channels().insert(n, Imf::Channel(Imf::FLOAT));
   header.insert("acqFormat", Imf::StringAttribute(kFormat));
   header.insert("acqBasis", Imf::StringAttribute(info.basis));
@@ -130,6 +132,7 @@ float SvbrdfMap::Plane(const std::string& name, int x, int y) const {
 
 SvbrdfMap ReadSvbrdfMap(const std::string& path) {
   try {
+    UseExrThreads();
     Imf::InputFile file(path.c_str());
     const Imf::Header& h = file.header();
     const auto* format = h.findTypedAttribute<Imf::StringAttribute>("acqFormat");
