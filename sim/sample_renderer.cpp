@@ -65,7 +65,7 @@ std::array<double, 3> RadianceAt(const RenderScene& scene, const Eigen::Vector2d
   const DirectionPair d{to_light.normalized(), to_eye.normalized()};
   const double irradiance = light.intensity * d.in.z() / d2;
   std::array<double, 3> f = Brdf(scene, point, d);
-  for (double& v : f) v *= irradiance;
+  for (int c = 0; c < 3; ++c) f[c] *= irradiance * light.rgb[c];
   return f;
 }
 

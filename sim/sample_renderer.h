@@ -45,6 +45,10 @@ struct RenderScene {
 struct PointLight {
   Eigen::Vector3d position_mm{0, 0, 1000};  // in the sample frame
   double intensity = 1e6;                   // radiance units x mm^2
+  // Its colour: each linear Rec. 709 channel's share of `intensity` (white: 1, 1, 1). The
+  // colour instrument's light is warm (InstrumentOptions::light_rgb); a Spectralon capture
+  // calibrates it out per channel.
+  Eigen::Vector3d rgb{1, 1, 1};
 };
 
 // Linear radiance per pixel of the camera's imager, RGB interleaved (3 floats per pixel).

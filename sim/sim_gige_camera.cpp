@@ -32,23 +32,96 @@ void InsertAfter(std::string* xml, const std::string& anchor, const std::string&
 
 bool SameView(const SimView& a, const SimView& b) {
   return a.cam_from_sample.r == b.cam_from_sample.r && a.cam_from_sample.t == b.cam_from_sample.t &&
-         a.light.position_mm == b.light.position_mm && a.light.intensity == b.light.intensity;
+         a.light.position_mm == b.light.position_mm && a.light.intensity == b.light.intensity &&
+         a.light.rgb == b.light.rgb;
 }
 
-int MaxDn(std::uint32_t format) {
-  switch (format) {
-    case ARV_PIXEL_FORMAT_MONO_8:
-      return 255;
-    case ARV_PIXEL_FORMAT_MONO_12:
-      return 4095;
-    default:
-      return 65535;
+// The formats a sensor with this filter offers: GenICam name and PFNC code, 8, 12 and 16 bits.
+struct OfferedFormat {
+  const char* name;
+  ArvPixelFormat code;
+  int max_dn;
+};
+
+std::vector<OfferedFormat> OfferedFormats(Cfa cfa) {
+  switch (cfa) {
+    case Cfa::kNone:
+      return {{"Mono8", ARV_PIXEL_FORMAT_MONO_8, 255},
+              {"Mono12", ARV_PIXEL_FORMAT_MONO_12, 4095},
+              {"Mono16", ARV_PIXEL_FORMAT_MONO_16, 65535}};
+    case Cfa::kRGGB:
+      return {{"BayerRG8", ARV_PIXEL_FORMAT_BAYER_RG_8, 255},
+              {"BayerRG12", ARV_PIXEL_FORMAT_BAYER_RG_12, 4095},
+              {"BayerRG16", ARV_PIXEL_FORMAT_BAYER_RG_16, 65535}};
+    case Cfa::kGRBG:
+      return {{"BayerGR8", ARV_PIXEL_FORMAT_BAYER_GR_8, 255},
+              {"BayerGR12", ARV_PIXEL_FORMAT_BAYER_GR_12, 4095},
+              {"BayerGR16", ARV_PIXEL_FORMAT_BAYER_GR_16, 65535}};
+    case Cfa::kGBRG:
+      return {{"BayerGB8", ARV_PIXEL_FORMAT_BAYER_GB_8, 255},
+              {"BayerGB12", ARV_PIXEL_FORMAT_BAYER_GB_12, 4095},
+              {"BayerGB16", ARV_PIXEL_FORMAT_BAYER_GB_16, 65535}};
+    case Cfa::kBGGR:
+      return {{"BayerBG8", ARV_PIXEL_FORMAT_BAYER_BG_8, 255},
+              {"BayerBG12", ARV_PIXEL_FORMAT_BAYER_BG_12, 4095},
+              {"BayerBG16", ARV_PIXEL_FORMAT_BAYER_BG_16, 65535}};
   }
+  return {};
+}
+
+// The full scale of a format the camera offers; 65535 for another (a driver that set a format
+// not offered is refused by the GenICam enumeration before it gets here).
+int MaxDn(Cfa cfa, std::uint32_t format) {
+  for (const OfferedFormat& f : OfferedFormats(cfa))
+    if (f.code == format) return f.max_dn;
+  return 65535;
+}
+
+// Replaces the fake camera's PixelFormat entries (its four 8-bit Bayer phases, RGB8, Mono8,
+// Mono16, whatever sensor it stands for) by the formats of ours.
+void ReplacePixelFormatEntries(std::string* xml, Cfa cfa) {
+  const std::string open = "<Enumeration Name=\"PixelFormat\" NameSpace=\"Standard\">";
+  const std::size_t at = xml->find(open);
+  const std::size_t end = xml->find("<pValue>PixelFormatRegister</pValue>", at);
+  if (at == std::string::npos || end == std::string::npos)
+    throw std::runtime_error(
+        "Aravis's fake camera XML has no PixelFormat enumeration; this "
+        "Aravis is not the 0.8 series the simulator was written for");
+  std::string entries = "\n\t\t<DisplayName>Pixel format</DisplayName>";
+  for (const OfferedFormat& f : OfferedFormats(cfa))
+    entries += std::string("\n\t\t<EnumEntry Name=\"") + f.name +
+               "\" NameSpace=\"Standard\">\n\t\t\t<Value>" + std::to_string(f.code) +
+               "</Value>\n\t\t</EnumEntry>";
+  const std::size_t from = at + open.size();
+  xml->replace(from, end - from, entries + "\n\t\t");
+}
+
+// Camera RGB through the filter: each photosite keeps the channel its filter passes.
+std::vector<float> Mosaic(const RadianceImage& rec709, const Eigen::Matrix3d& camera_from_rec709,
+                          Cfa cfa) {
+  const Eigen::Matrix3f m = camera_from_rec709.cast<float>();
+  std::vector<float> out(std::size_t(rec709.width) * std::size_t(rec709.height));
+#pragma omp parallel for schedule(static)
+  for (int y = 0; y < rec709.height; ++y)
+    for (int x = 0; x < rec709.width; ++x) {
+      const std::size_t i = std::size_t(y) * rec709.width + x;
+      const Eigen::Vector3f rgb(rec709.rgb[3 * i], rec709.rgb[3 * i + 1], rec709.rgb[3 * i + 2]);
+      out[i] = m.row(CfaChannel(cfa, x, y)).dot(rgb);
+    }
+  return out;
 }
 
 }  // namespace
 
-std::string SimCameraGenicamXml() {
+Eigen::Matrix3d PlausibleCameraCrosstalk() {
+  Eigen::Matrix3d m;
+  m << 0.78, 0.18, 0.04,  //
+      0.12, 0.76, 0.12,   //
+      0.04, 0.22, 0.74;
+  return m;
+}
+
+std::string SimCameraGenicamXml(Cfa cfa) {
   ArvFakeCamera* probe = arv_fake_camera_new("probe");
   std::size_t size = 0;
   const char* base = arv_fake_camera_get_genicam_xml(probe, &size);
@@ -57,9 +130,7 @@ std::string SimCameraGenicamXml() {
   InsertAfter(&xml, "<pFeature>ExposureTimeAbs</pFeature>",
               "\n\t\t<pFeature>ExposureTime</pFeature>");
   InsertAfter(&xml, "<pFeature>GainRaw</pFeature>", "\n\t\t<pFeature>Gain</pFeature>");
-  InsertAfter(&xml, "<Enumeration Name=\"PixelFormat\" NameSpace=\"Standard\">",
-              "\n\t\t<EnumEntry Name=\"Mono12\" NameSpace=\"Standard\">\n\t\t\t<Value>" +
-                  std::to_string(ARV_PIXEL_FORMAT_MONO_12) + "</Value>\n\t\t</EnumEntry>");
+  ReplacePixelFormatEntries(&xml, cfa);
   InsertAfter(&xml, "<!-- Analog control -->", R"(
 	<Float Name="ExposureTime" NameSpace="Standard">
 		<Description>Exposure duration, in microseconds (SFNC name).</Description>
@@ -107,7 +178,7 @@ SimGigECamera::SimGigECamera(RenderScene scene, calib::CameraModel model,
   if (fd < 0) throw std::runtime_error("cannot write the simulated camera's GenICam file in /tmp");
   close(fd);
   genicam_path_ = path;
-  std::ofstream(genicam_path_) << SimCameraGenicamXml();
+  std::ofstream(genicam_path_) << SimCameraGenicamXml(options_.cfa);
   Start();
 }
 
@@ -187,15 +258,17 @@ void SimGigECamera::Fill(void* buffer_pointer, std::uint32_t exposure_us, std::u
   frame.index = last_.index + 1;
   frame.width = w;
   frame.height = h;
-  frame.max_dn = MaxDn(format);
+  frame.max_dn = MaxDn(options_.cfa, format);
   frame.exposure_us = exposure_us;
   frame.gain_db = gain_raw / kGainRawPerDb;
   if (w == model_.width() && h == model_.height()) {
     if (!have_render_ || !SameView(view, rendered_view_)) {
       const auto start = std::chrono::steady_clock::now();
-      radiance_ = RenderRadiance(scene_, model_, view.cam_from_sample, view.light,
-                                 options_.ray_grid_step_px)
-                      .Channel(options_.channel);
+      const RadianceImage rec709 = RenderRadiance(scene_, model_, view.cam_from_sample, view.light,
+                                                  options_.ray_grid_step_px);
+      radiance_ = options_.cfa == Cfa::kNone
+                      ? rec709.Channel(options_.channel)
+                      : Mosaic(rec709, options_.camera_from_rec709, options_.cfa);
       render_seconds_ =
           std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
       rendered_view_ = view;

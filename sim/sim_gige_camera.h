@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "calib/camera_model.h"
+#include "core/cfa.h"
 #include "core/gantry_geometry.h"
 #include "sim/sample_renderer.h"
 
@@ -38,6 +39,11 @@ struct SimCameraOptions {
   std::string serial = "ACQSIM01";
   SensorModel sensor;
   int channel = -1;  // the colour channel a mono sensor sees (0, 1, 2), or -1: luminance
+  // A colour camera (issue 16): the Bayer filter over its photosites (kNone: mono), which it
+  // offers as Bayer..8/12/16 of that phase, and its channels' sensitivities, which are not
+  // Rec. 709's: camera RGB = camera_from_rec709 x linear Rec. 709 radiance, before the mosaic.
+  Cfa cfa = Cfa::kNone;
+  Eigen::Matrix3d camera_from_rec709 = Eigen::Matrix3d::Identity();
   int ray_grid_step_px = 4;
   std::uint64_t seed = 1;
 };
@@ -96,7 +102,14 @@ class SimGigECamera {
 };
 
 // The fake camera's GenICam description with the standard names our driver and users expect:
-// ExposureTime (us), Gain (dB, stored in centi-dB in the gain register) and Mono12.
-std::string SimCameraGenicamXml();
+// ExposureTime (us), Gain (dB, stored in centi-dB in the gain register), and as PixelFormat
+// Mono8, Mono12, Mono16 for a mono sensor or the three Bayer depths of its filter's phase.
+std::string SimCameraGenicamXml(Cfa cfa = Cfa::kNone);
+
+// A plausible colour camera's channel sensitivities against linear Rec. 709 (rows R, G, B of the
+// camera; each row sums to 1, so grey stays grey): broad overlapping dye filters, green's
+// leaking most. Documented in docs/colour.md; the pipeline must calibrate it (a colour chart, or
+// the plan's camera.colour_matrix).
+Eigen::Matrix3d PlausibleCameraCrosstalk();
 
 }  // namespace acq::sim

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <opencv2/imgcodecs.hpp>
 
+#include "core/colour.h"
 #include "core/error.h"
 
 namespace acq {
@@ -147,9 +148,8 @@ void WritePng(const RgbImage& image, const std::string& path, double exposure) {
   for (int y = 0; y < image.height; ++y)
     for (int x = 0; x < image.width; ++x)
       for (int ch = 0; ch < 3; ++ch) {
-        const double l =
-            std::clamp(image.rgb[(std::size_t(y) * image.width + x) * 3 + ch] * exposure, 0.0, 1.0);
-        const double srgb = l <= 0.0031308 ? 12.92 * l : 1.055 * std::pow(l, 1 / 2.4) - 0.055;
+        const double srgb =
+            SrgbEncode(image.rgb[(std::size_t(y) * image.width + x) * 3 + ch] * exposure);
         out.at<cv::Vec3b>(y, x)[2 - ch] = cv::saturate_cast<uchar>(srgb * 255 + 0.5);  // BGR
       }
   bool ok = false;

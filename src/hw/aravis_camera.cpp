@@ -7,22 +7,43 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <optional>
+#include <utility>
 
 #include "core/error.h"
 
 namespace acq {
 namespace {
 
+// Our formats and Aravis's codes for them (the GenICam PFNC values).
+constexpr std::pair<PixelFormat, ArvPixelFormat> kArvFormats[] = {
+    {PixelFormat::kMono8, ARV_PIXEL_FORMAT_MONO_8},
+    {PixelFormat::kMono12, ARV_PIXEL_FORMAT_MONO_12},
+    {PixelFormat::kMono16, ARV_PIXEL_FORMAT_MONO_16},
+    {PixelFormat::kBayerRG8, ARV_PIXEL_FORMAT_BAYER_RG_8},
+    {PixelFormat::kBayerRG12, ARV_PIXEL_FORMAT_BAYER_RG_12},
+    {PixelFormat::kBayerRG16, ARV_PIXEL_FORMAT_BAYER_RG_16},
+    {PixelFormat::kBayerGR8, ARV_PIXEL_FORMAT_BAYER_GR_8},
+    {PixelFormat::kBayerGR12, ARV_PIXEL_FORMAT_BAYER_GR_12},
+    {PixelFormat::kBayerGR16, ARV_PIXEL_FORMAT_BAYER_GR_16},
+    {PixelFormat::kBayerGB8, ARV_PIXEL_FORMAT_BAYER_GB_8},
+    {PixelFormat::kBayerGB12, ARV_PIXEL_FORMAT_BAYER_GB_12},
+    {PixelFormat::kBayerGB16, ARV_PIXEL_FORMAT_BAYER_GB_16},
+    {PixelFormat::kBayerBG8, ARV_PIXEL_FORMAT_BAYER_BG_8},
+    {PixelFormat::kBayerBG12, ARV_PIXEL_FORMAT_BAYER_BG_12},
+    {PixelFormat::kBayerBG16, ARV_PIXEL_FORMAT_BAYER_BG_16},
+};
+
 ArvPixelFormat ToArv(PixelFormat f) {
-  switch (f) {
-    case PixelFormat::kMono8:
-      return ARV_PIXEL_FORMAT_MONO_8;
-    case PixelFormat::kMono12:
-      return ARV_PIXEL_FORMAT_MONO_12;
-    case PixelFormat::kMono16:
-      return ARV_PIXEL_FORMAT_MONO_16;
-  }
-  return ARV_PIXEL_FORMAT_MONO_16;
+  for (const auto& [ours, arv] : kArvFormats)
+    if (ours == f) return arv;
+  throw std::logic_error("PixelFormat missing from kArvFormats");
+}
+
+std::optional<PixelFormat> FromArv(ArvPixelFormat f) {
+  for (const auto& [ours, arv] : kArvFormats)
+    if (arv == f) return ours;
+  return std::nullopt;
 }
 
 // Takes the GError's message and frees it.
@@ -158,15 +179,14 @@ void AravisCamera::Work() {
       Frame& f = d.frame;
       f.width = arv_buffer_get_image_width(buffer);
       f.height = arv_buffer_get_image_height(buffer);
-      const ArvPixelFormat format = arv_buffer_get_image_pixel_format(buffer);
-      f.pixel_format = format == ARV_PIXEL_FORMAT_MONO_8    ? PixelFormat::kMono8
-                       : format == ARV_PIXEL_FORMAT_MONO_12 ? PixelFormat::kMono12
-                                                            : PixelFormat::kMono16;
+      // A format we did not ask for is a short frame below: never read as another's counts.
+      const std::optional<PixelFormat> format = FromArv(arv_buffer_get_image_pixel_format(buffer));
+      f.pixel_format = format.value_or(PixelFormat::kMono16);
       f.frame_id = arv_buffer_get_frame_id(buffer);
       f.timestamp_ns = arv_buffer_get_timestamp(buffer);
       const std::size_t n = std::size_t(f.width) * std::size_t(f.height);
-      const std::size_t bytes = f.pixel_format == PixelFormat::kMono8 ? 1 : 2;
-      if (size >= n * bytes) {
+      const std::size_t bytes = f.MaxValue() == 255 ? 1 : 2;
+      if (format && size >= n * bytes) {
         f.pixels.resize(n);
         if (bytes == 1)
           std::copy(data, data + n, f.pixels.begin());
@@ -174,7 +194,7 @@ void AravisCamera::Work() {
           std::memcpy(f.pixels.data(), data, n * 2);  // little-endian, as GigE Vision sends
         d.complete = true;
       } else {
-        d.why = "short frame";
+        d.why = format ? "short frame" : "a pixel format the driver does not take";
       }
     } else {
       d.why = StatusName(status);
@@ -200,6 +220,29 @@ void AravisCamera::Apply(const CameraSettings& settings) {
   ApplyToDevice();
 }
 
+std::vector<std::string> AravisCamera::OfferedPixelFormats() {
+  GError* error = nullptr;
+  guint n = 0;
+  const char** names = arv_camera_dup_available_pixel_formats_as_strings(camera_, &n, &error);
+  if (error)
+    throw UserError("camera " + Describe(),
+                    "cannot read the pixel formats it offers: " + Message(&error));
+  std::vector<std::string> out(names, names + n);
+  g_free(names);
+  return out;
+}
+
+void AravisCamera::RefuseFormatNotOffered(PixelFormat format) {
+  const std::vector<std::string> offered = OfferedPixelFormats();
+  if (std::find(offered.begin(), offered.end(), PixelFormatName(format)) != offered.end()) return;
+  std::string list;
+  for (const std::string& name : offered) list += (list.empty() ? "" : ", ") + name;
+  throw UserError("camera " + Describe(),
+                  std::string("does not offer the pixel format ") + PixelFormatName(format) +
+                      " (it offers " + list + ")",
+                  "name one of those in the plan's camera.pixel_format");
+}
+
 void AravisCamera::ApplyToDevice() {
   GError* error = nullptr;
   const std::string where = "camera " + Describe();
@@ -216,6 +259,7 @@ void AravisCamera::ApplyToDevice() {
     check("the region " + std::to_string(settings_.width) + "x" + std::to_string(settings_.height));
   }
   if (restream) {
+    RefuseFormatNotOffered(settings_.pixel_format);
     arv_camera_set_pixel_format(camera_, ToArv(settings_.pixel_format), &error);
     check(std::string("the pixel format ") + PixelFormatName(settings_.pixel_format));
   }

@@ -15,6 +15,7 @@
 #include <mutex>
 #include <string>
 #include <thread>
+#include <vector>
 
 #include "hw/camera.h"
 
@@ -58,7 +59,11 @@ class AravisCamera : public Camera {
   void Close();
   void StartStream();
   void StopStream();
-  void ApplyToDevice();  // throws UserError
+  void ApplyToDevice();                            // throws UserError
+  std::vector<std::string> OfferedPixelFormats();  // the camera's PixelFormat entries
+  // UserError naming the formats it offers when `format` is not one (before any motion: the
+  // daemon applies the plan's settings at connect).
+  void RefuseFormatNotOffered(PixelFormat format);
   bool Reopen();
   bool StillInControl();
   void AddPacketCounts(StreamStatistics* s) const;  // the live stream's, if GigE Vision

@@ -4,15 +4,41 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "core/cfa.h"
+
 namespace acq {
 
-enum class PixelFormat { kMono8, kMono12, kMono16 };
-const char* PixelFormatName(PixelFormat format);  // the GenICam name, "Mono16"
+// The formats the driver takes: mono, and Bayer in each of the four phases (issue 16), each at 8,
+// 12 and 16 bits. One table (camera.cpp) gives each its GenICam name, depth and filter.
+enum class PixelFormat {
+  kMono8,
+  kMono12,
+  kMono16,
+  kBayerRG8,
+  kBayerRG12,
+  kBayerRG16,
+  kBayerGR8,
+  kBayerGR12,
+  kBayerGR16,
+  kBayerGB8,
+  kBayerGB12,
+  kBayerGB16,
+  kBayerBG8,
+  kBayerBG12,
+  kBayerBG16,
+};
+const char* PixelFormatName(PixelFormat format);  // the GenICam name, "Mono16", "BayerRG12"
 PixelFormat ParsePixelFormat(const std::string& name, const std::string& where);  // UserError
+// The format of a name, or nullopt (names a camera offers that the driver does not take).
+std::optional<PixelFormat> FindPixelFormat(const std::string& name);
 int MaxValue(PixelFormat format);  // 255, 4095, 65535
+Cfa CfaOf(PixelFormat format);     // Cfa::kNone for mono
+// The Bayer format of a filter at a depth of `max_value` (255, 4095, 65535); mono for kNone.
+PixelFormat PixelFormatFor(Cfa cfa, int max_value);
 
 struct CameraSettings {
   PixelFormat pixel_format = PixelFormat::kMono16;
