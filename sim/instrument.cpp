@@ -62,15 +62,21 @@ Instrument::Instrument(const InstrumentOptions& options) : options_(options) {
   gantry_ = std::make_unique<EmulatedUsbGantry>(options_.firmware, options_.usb);
   SimCameraOptions camera;
   camera.seed = options_.seed;
+  camera.cfa = options_.camera_filter;
+  if (camera.cfa != Cfa::kNone) camera.camera_from_rec709 = PlausibleCameraCrosstalk();
   sensor_ = camera.sensor;
   const double camera_mm = options_.camera_distance_mm, light_mm = options_.light_distance_mm;
   const double intensity = options_.light_intensity;
+  const Eigen::Vector3d light_rgb = options_.light_rgb.value_or(
+      camera.cfa != Cfa::kNone ? kWarmLight : Eigen::Vector3d(1, 1, 1));
   camera_ = std::make_unique<SimGigECamera>(
       scene_, model_,
-      [this, camera_mm, light_mm, intensity] {
+      [this, camera_mm, light_mm, intensity, light_rgb] {
         const ArmAngles arms =
             gantry_->WithFirmware([](SimGantryFirmware& f) { return f.Measured(); });
-        return ViewFromArms(arms, camera_mm, light_mm, intensity);
+        SimView view = ViewFromArms(arms, camera_mm, light_mm, intensity);
+        view.light.rgb = light_rgb;
+        return view;
       },
       camera);
 }
@@ -131,10 +137,12 @@ void Instrument::Place(const Placement& p) {
   camera_->SetScene(std::move(scene));
 }
 
-std::vector<MerlBrdf> LuminanceTables(const std::vector<std::string>& material_files) {
+std::vector<MerlBrdf> TruthTables(const std::vector<std::string>& material_files, bool colour) {
   std::vector<MerlBrdf> tables;
-  for (const std::string& path : material_files)
-    tables.push_back(LuminanceOf(NeuralBrdf::Load(path).Tabulate()));
+  for (const std::string& path : material_files) {
+    MerlBrdf table = NeuralBrdf::Load(path).Tabulate();
+    tables.push_back(colour ? std::move(table) : LuminanceOf(table));
+  }
   return tables;
 }
 

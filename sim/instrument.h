@@ -7,6 +7,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -32,6 +33,11 @@ struct InstrumentOptions {
   // this size whose image holds the card with a margin at the arm's distance.
   std::string camera_model_file;
   int image_width = 320, image_height = 320;
+  // A colour camera (issue 16): its Bayer filter (kNone: mono), with the cross-talk of
+  // PlausibleCameraCrosstalk(); and the light's colour, unset: kWarmLight for a colour camera,
+  // white for a mono one (whose record is luminance under white light, TruthTables).
+  Cfa camera_filter = Cfa::kNone;
+  std::optional<Eigen::Vector3d> light_rgb;
   FirmwareOptions firmware;
   EmulatedUsbOptions usb;
   std::uint64_t seed = 1;
@@ -70,7 +76,12 @@ class Instrument {
   std::unique_ptr<SimGigECamera> camera_;
 };
 
-// The simulated mono camera's record of a set of materials: each tabulated, in luminance.
-std::vector<MerlBrdf> LuminanceTables(const std::vector<std::string>& material_files);
+// A halogen lamp's colour near 3000 K in linear Rec. 709, green 1 (its blue a little over a
+// third of its red): what the colour instrument's light is unless the plan says otherwise.
+inline const Eigen::Vector3d kWarmLight{1.38, 1.0, 0.55};
+
+// What a map of a set of materials should hold: each tabulated, in linear Rec. 709 for a colour
+// camera, in luminance (the same value thrice) for a mono one.
+std::vector<MerlBrdf> TruthTables(const std::vector<std::string>& material_files, bool colour);
 
 }  // namespace acq::sim

@@ -14,6 +14,15 @@ void HdrOptions::Check() const {
     throw UserError("hdr", "the black level and the noise floor must be >= 0 counts");
 }
 
+std::vector<float> HdrImage::Grey() const {
+  const std::size_t n = std::size_t(width) * std::size_t(height);
+  if (channels == 1) return radiance;
+  std::vector<float> grey(n);
+  for (std::size_t i = 0; i < n; ++i)
+    grey[i] = (radiance[i] + radiance[n + i] + radiance[2 * n + i]) / 3;
+  return grey;
+}
+
 HdrImage MergeBracket(const std::vector<Frame>& frames, const HdrOptions& options) {
   options.Check();
   if (frames.empty()) throw UserError("hdr", "no frames to merge");
@@ -25,7 +34,14 @@ HdrImage MergeBracket(const std::vector<Frame>& frames, const HdrOptions& option
       throw UserError("hdr", "frames of different sizes in one bracket (" +
                                  std::to_string(f.width) + "x" + std::to_string(f.height) + ")");
     if (!(f.exposure_us > 0)) throw UserError("hdr", "a frame without an exposure time");
+    if (CfaOf(f.pixel_format) != CfaOf(frames[0].pixel_format))
+      throw UserError("hdr",
+                      std::string("frames of different colour filters in one bracket (") +
+                          PixelFormatName(frames[0].pixel_format) + " and " +
+                          PixelFormatName(f.pixel_format) + ")",
+                      "take a pose's bracket in one pixel format");
   }
+  out.cfa = CfaOf(frames[0].pixel_format);
   // Shortest first: the fallback for pixels saturated everywhere is the shortest frame, for
   // pixels dark everywhere the longest.
   std::vector<const Frame*> sorted;

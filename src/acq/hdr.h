@@ -26,12 +26,21 @@ enum HdrFlag : std::uint8_t { kHdrOk = 0, kHdrSaturated = 1, kHdrDark = 2 };
 
 struct HdrImage {
   int width = 0, height = 0;
-  std::vector<float> radiance;     // counts per microsecond at 0 dB
-  std::vector<std::uint8_t> flag;  // HdrFlag per pixel
+  // A colour camera's bracket is merged photosite by photosite: `cfa` is its filter while the
+  // image is that mosaic (one plane), and kNone once demosaiced (acq/demosaic.h).
+  Cfa cfa = Cfa::kNone;
+  int channels = 1;                // 1, or 3: camera R, G, B planes one after the other
+  std::vector<float> radiance;     // counts per microsecond at 0 dB, `channels` planes
+  std::vector<std::uint8_t> flag;  // HdrFlag per pixel (any channel's)
   std::vector<std::uint8_t> used;  // how many frames each pixel's value came from
+  const float* Plane(int channel) const {
+    return radiance.data() + std::size_t(channel) * std::size_t(width) * std::size_t(height);
+  }
+  // One grey plane: the radiance, or the mean of the three channels (for the board detector).
+  std::vector<float> Grey() const;
 };
 
-// Throws UserError when the frames differ in size or a frame has no exposure.
+// Throws UserError when the frames differ in size or filter, or a frame has no exposure.
 HdrImage MergeBracket(const std::vector<Frame>& frames, const HdrOptions& options);
 
 struct AutoBracketOptions {

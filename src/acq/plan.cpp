@@ -1,5 +1,7 @@
 #include "acq/plan.h"
 
+#include <Eigen/LU>
+
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
@@ -326,13 +328,23 @@ GantrySpec ReadGantry(const Section& top) {
 }
 
 CameraSpec ReadCamera(const Section& top, Backend backend) {
-  const Section camera = top.Child("camera", {"id", "pixel_format", "gain_db", "hdr"});
+  const Section camera =
+      top.Child("camera", {"id", "pixel_format", "gain_db", "hdr", "colour_matrix"});
   CameraSpec c;
   c.id = camera.Text("id");
   camera.At("pixel_format", [&] {
     c.settings.pixel_format = ParsePixelFormat(camera.Text("pixel_format", "Mono16"), "");
   });
   c.settings.gain_db = camera.Number("gain_db", 0);
+  if (camera.Has("colour_matrix")) {
+    const std::vector<double> m = camera.Numbers("colour_matrix");
+    if (m.size() != 9)
+      throw UserError(camera.Where("colour_matrix"),
+                      "camera.colour_matrix must hold 9 numbers, not " + std::to_string(m.size()),
+                      "the 3 x 3 matrix from camera RGB to linear Rec. 709, row by row");
+    c.rec709_from_camera = Eigen::Matrix3d();
+    for (int i = 0; i < 9; ++i) (*c.rec709_from_camera)(i / 3, i % 3) = m[std::size_t(i)];
+  }
   const Section hdr = camera.Child("hdr", {"bracket_us", "auto"});
   c.bracket_us = hdr.Numbers("bracket_us");
   c.auto_bracket = hdr.Flag("auto", c.bracket_us.empty());
@@ -340,6 +352,7 @@ CameraSpec ReadCamera(const Section& top, Backend backend) {
     throw UserError(hdr.Where("auto"), "camera.hdr has both auto and bracket_us",
                     "choose one: a fixed bracket or the automatic one");
   camera.Checked([&] { c.Check(); });
+  camera.At("colour_matrix", [&] { c.CheckColour(); });
   if (backend == Backend::kUsbAravis && c.id.empty())
     throw UserError(camera.Where("id"), "the usb+aravis backend needs camera.id",
                     "`arv-tool-0.8` lists the cameras and their ids");
@@ -446,8 +459,9 @@ std::vector<std::string> ReadSimMaterials(const YAML::Node& root, const Section&
 
 SimSpec ReadSim(const YAML::Node& root, const Section& top, const std::string& base,
                 Backend backend) {
-  const Section sim = top.Child("sim", {"materials", "seed", "light_intensity", "time_scale",
-                                        "operator", "image_size", "camera_model"});
+  const Section sim =
+      top.Child("sim", {"materials", "seed", "light_intensity", "time_scale", "operator",
+                        "image_size", "camera_model", "camera_filter", "light_rgb"});
   SimSpec s;
   if (backend == Backend::kSim) s.materials = ReadSimMaterials(root, sim, base);
   s.seed = std::uint64_t(sim.Integer("seed", 1, 0, LLONG_MAX));
@@ -470,6 +484,20 @@ SimSpec ReadSim(const YAML::Node& root, const Section& top, const std::string& b
     s.camera_model = Resolve(base, sim.Text("camera_model"));
     RequireFile(sim, "camera_model", s.camera_model,
                 "give an mrcal .cameramodel for the simulated camera's lens");
+  }
+  if (sim.Has("camera_filter")) {
+    s.camera_filter = ParseCfa(sim.Text("camera_filter"));
+    if (!s.camera_filter)
+      throw UserError(sim.Where("camera_filter"),
+                      "sim.camera_filter '" + sim.Text("camera_filter") + "' is not a filter",
+                      "RGGB, GRBG, GBRG, BGGR or none");
+  }
+  if (sim.Has("light_rgb")) {
+    const std::vector<double> rgb = sim.Numbers("light_rgb");
+    if (rgb.size() != 3 || !(rgb[0] > 0 && rgb[1] > 0 && rgb[2] > 0))
+      throw UserError(sim.Where("light_rgb"), "sim.light_rgb must be three positive numbers",
+                      "each Rec. 709 channel's share of the light, like [1, 0.72, 0.42]");
+    s.light_rgb = Eigen::Vector3d(rgb[0], rgb[1], rgb[2]);
   }
   sim.Checked([&] { s.Check(); });
   return s;
@@ -522,6 +550,31 @@ void GantrySpec::Check() const {
     if (!(value >= 50 && value <= 1e5))
       throw UserError(key, "must be from 50 to 100000 mm",
                       "the distance from the sample's centre to the arm's camera or light");
+}
+
+void CameraSpec::CheckColour() const {
+  const bool colour = CfaOf(settings.pixel_format) != Cfa::kNone;
+  if (colour && !rec709_from_camera)
+    throw UserError("colour_matrix",
+                    std::string("a colour camera (") + PixelFormatName(settings.pixel_format) +
+                        ") needs camera.colour_matrix",
+                    "give the 3 x 3 matrix from its RGB to linear Rec. 709 (docs/colour.md); "
+                    "a colour chart capture to fit it is not built yet");
+  if (!colour && rec709_from_camera)
+    throw UserError("colour_matrix",
+                    std::string("a mono camera (") + PixelFormatName(settings.pixel_format) +
+                        ") has no colour to correct",
+                    "leave camera.colour_matrix out, or name a Bayer pixel format");
+  if (!rec709_from_camera) return;
+  const Eigen::Matrix3d& m = *rec709_from_camera;
+  if (!m.allFinite())
+    throw UserError("colour_matrix", "holds a number that is not finite");
+  // Relative to its size: a matrix whose rows are nearly dependent mixes the channels into noise.
+  const double det = m.determinant(), scale = m.cwiseAbs().maxCoeff();
+  if (!(std::abs(det) > 1e-6 * scale * scale * scale))
+    throw UserError("colour_matrix",
+                    "is not invertible (determinant " + std::to_string(det) + ")",
+                    "give the camera's characterised matrix; identity is 1 0 0 0 1 0 0 0 1");
 }
 
 void CameraSpec::Check() const {

@@ -5,8 +5,11 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
+
+#include <Eigen/Core>
 
 #include "acq/move_planner.h"
 #include "brdf/basis_rows.h"
@@ -40,7 +43,12 @@ struct CameraSpec {         // camera:
   CameraSettings settings;  // pixel format, gain; exposure: the bracket's first
   std::vector<double> bracket_us;  // empty: automatic bracket
   bool auto_bracket = false;
+  // camera.colour_matrix (a Bayer camera): linear Rec. 709 = this x camera RGB, nine numbers row
+  // by row, for a camera characterised before (docs/colour.md); the light's colour is left to
+  // the Spectralon captures. Unset for a mono camera.
+  std::optional<Eigen::Matrix3d> rec709_from_camera;
   void Check() const;
+  void CheckColour() const;  // a matrix for a colour camera only, and an invertible one
 };
 
 // Calibration (docs/calibration.md): the intrinsics from this many board captures, or from a
@@ -70,6 +78,11 @@ struct SimSpec {  // sim:
   bool operator_prompts = false;  // sim.operator
   int image_width = 320, image_height = 320;
   std::string camera_model;
+  // sim.camera_filter: the simulated sensor's Bayer filter ("RGGB", ..., "none"); unset: the
+  // filter camera.pixel_format names. sim.light_rgb: the light's colour; unset: warm for a
+  // colour camera, white for a mono one (sim/instrument.h).
+  std::optional<Cfa> camera_filter;
+  std::optional<Eigen::Vector3d> light_rgb;
   void Check() const;
 };
 

@@ -33,7 +33,10 @@ ValidationResult CompareWithCapture(const SvbrdfMap& map, const BasisView& basis
     for (int x = 0; x < w; ++x) {
       const std::size_t p = std::size_t(y) * w + x;
       const float* rgb = &obs.rgb[3 * obs.At(int(p), 0)];
-      if (map.Plane("valid", x, y) == 0 || !std::isfinite(rgb[0])) continue;
+      // As the solver: an observation counts only with all three channels.
+      if (map.Plane("valid", x, y) == 0 ||
+          !(std::isfinite(rgb[0]) && std::isfinite(rgb[1]) && std::isfinite(rgb[2])))
+        continue;
       const Eigen::Vector3d in = obs.light[obs.At(int(p), 0)].cast<double>();
       const Eigen::Vector3d out = obs.camera[obs.At(int(p), 0)].cast<double>();
       const std::vector<float> c = PixelCoefficients(map, x, y);

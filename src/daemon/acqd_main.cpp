@@ -53,6 +53,8 @@ sim::InstrumentOptions InstrumentOptionsOf(const Plan& plan) {
   o.camera_model_file = plan.sim.camera_model;
   o.image_width = plan.sim.image_width;
   o.image_height = plan.sim.image_height;
+  o.camera_filter = plan.sim.camera_filter.value_or(CfaOf(plan.camera.settings.pixel_format));
+  o.light_rgb = plan.sim.light_rgb;
   o.firmware.axis = plan.gantry.motion.theta;
   o.firmware.settle_s = plan.gantry.motion.settle_s;
   o.firmware.limits = plan.gantry.motion.constraints;

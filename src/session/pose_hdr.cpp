@@ -3,6 +3,7 @@
 #include <cstdio>
 #include <filesystem>
 
+#include "acq/demosaic.h"
 #include "core/error.h"
 #include "core/seconds_since.h"
 #include "hw/frame_file.h"
@@ -35,12 +36,20 @@ bool ReadUpToDate(const std::string& path, const std::string& dir,
   } catch (const UserError&) {
     return false;  // damaged: merged again
   }
-  if (file.attributes["frames"] != FrameList(frames) || !file.planes.count("radiance") ||
-      !file.planes.count("flag"))
+  const bool colour = file.planes.count("R") && file.planes.count("G") && file.planes.count("B");
+  if (file.attributes["frames"] != FrameList(frames) ||
+      !(colour || file.planes.count("radiance")) || !file.planes.count("flag"))
     return false;
   out->hdr.width = file.width;
   out->hdr.height = file.height;
-  out->hdr.radiance = file.planes["radiance"];
+  out->hdr.channels = colour ? 3 : 1;
+  if (colour) {
+    for (const char* c : {"R", "G", "B"})
+      out->hdr.radiance.insert(out->hdr.radiance.end(), file.planes[c].begin(),
+                               file.planes[c].end());
+  } else {
+    out->hdr.radiance = std::move(file.planes["radiance"]);
+  }
   out->hdr.flag.assign(file.planes["flag"].begin(), file.planes["flag"].end());
   out->arms = ParseArmAnglesAttribute(file.attributes["arms_measured_deg"], path);
   out->direction = file.attributes["direction"];
@@ -72,13 +81,25 @@ PoseHdr MergePose(const std::string& dir, Step step, int pose,
     std::map<std::string, std::string> attributes;
     for (const CatalogFrame& f : frames)
       bracket.push_back(ReadFrameExr(dir + "/" + f.path, &attributes));
-    p.hdr = MergeBracket(bracket, {});
+    // A colour camera's mosaic merged photosite by photosite, then demosaiced (demosaic.h).
+    HdrImage mosaic = MergeBracket(bracket, {});
+    const Cfa bracket_cfa = mosaic.cfa;
+    p.hdr = Demosaic(std::move(mosaic));
     p.arms = ParseArmAnglesAttribute(attributes["arms_measured_deg"], frames.front().path);
     p.direction = attributes["direction"];
     FloatPlanes file;
     file.width = p.hdr.width;
     file.height = p.hdr.height;
-    file.planes["radiance"] = p.hdr.radiance;
+    const std::size_t n = std::size_t(p.hdr.width) * std::size_t(p.hdr.height);
+    if (p.hdr.channels == 3) {
+      const char* names[3] = {"R", "G", "B"};
+      for (int c = 0; c < 3; ++c)
+        file.planes[names[c]].assign(p.hdr.Plane(c), p.hdr.Plane(c) + n);
+      file.attributes["colour"] = "camera RGB, demosaiced (" + std::string(CfaName(bracket_cfa)) +
+                                  ", " + DemosaicMethodName(kDefaultDemosaic) + ")";
+    } else {
+      file.planes["radiance"] = p.hdr.radiance;
+    }
     file.planes["flag"].assign(p.hdr.flag.begin(), p.hdr.flag.end());
     file.attributes["unit"] = "counts per microsecond at 0 dB";
     file.attributes["frames"] = FrameList(frames);

@@ -27,12 +27,36 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// A mono camera: one image for R, G and B.
-std::array<ViewImage, 3> Channels(HdrImage&& hdr) {
+// A pose's R, G and B in linear Rec. 709: a mono camera's one image thrice; a colour camera's
+// demosaiced camera RGB through the plan's colour matrix (the light's colour stays, for the
+// Spectralon captures to divide out channel by channel).
+std::array<ViewImage, 3> Channels(HdrImage&& hdr, const CameraSpec& camera) {
   std::vector<std::uint8_t> unusable(hdr.flag.size());
   for (std::size_t i = 0; i < unusable.size(); ++i) unusable[i] = hdr.flag[i] != kHdrOk;
-  const ViewImage image(hdr.width, hdr.height, std::move(hdr.radiance), std::move(unusable));
-  return {image, image, image};  // the same pixels thrice: a mono camera
+  if (hdr.channels == 1) {
+    const ViewImage image(hdr.width, hdr.height, std::move(hdr.radiance), std::move(unusable));
+    return {image, image, image};  // the same pixels thrice: a mono camera
+  }
+  if (!camera.rec709_from_camera)
+    throw UserError("camera.colour_matrix", "the session's images are colour, the plan has no "
+                    "colour matrix", "give camera.colour_matrix (docs/colour.md)");
+  const Eigen::Matrix3f m = camera.rec709_from_camera->cast<float>();
+  const std::size_t n = std::size_t(hdr.width) * std::size_t(hdr.height);
+  std::array<std::vector<float>, 3> rec709;
+  for (auto& plane : rec709) plane.resize(n);
+#pragma omp parallel for schedule(static)
+  for (std::ptrdiff_t i = 0; i < std::ptrdiff_t(n); ++i) {
+    const Eigen::Vector3f rgb(hdr.radiance[i], hdr.radiance[n + i], hdr.radiance[2 * n + i]);
+    const Eigen::Vector3f out = m * rgb;
+    for (int c = 0; c < 3; ++c) rec709[c][i] = out[c];
+  }
+  const auto flags = std::make_shared<const std::vector<std::uint8_t>>(std::move(unusable));
+  std::array<ViewImage, 3> out;
+  for (int c = 0; c < 3; ++c) {
+    out[c] = ViewImage(hdr.width, hdr.height, std::move(rec709[c]));
+    out[c].unusable = flags;  // one set of flags for the three channels
+  }
+  return out;
 }
 
 // The views of `step` (with the Spectralon captures of `spectralon_step` where there are any):
@@ -65,13 +89,13 @@ std::vector<SessionView> ViewsOf(const Plan& plan, Step step, Step spectralon_st
       view.correspondence =
           PoseCorrespondence(session.dir, step, pose, reference, calibrated, &correspondence_s);
     }
-    view.sample = Channels(std::move(p.hdr));
+    view.sample = Channels(std::move(p.hdr), plan.camera);
     if (plan.spectralon) {
       const auto s = spectralon.find(pose);
       if (s == spectralon.end())
         throw UserError(session.dir, "no Spectralon capture of " + view.name,
                         "run acqd again with the same plan to capture what is missing");
-      view.spectralon = Channels(std::move(s->second.hdr));
+      view.spectralon = Channels(std::move(s->second.hdr), plan.camera);
     }
     view.light_in_sample_mm = calibrated.light_in_sample_mm;
     view.light_intensity = geometry.light_intensity;

@@ -24,9 +24,10 @@ namespace {
 // An HDR board image for the detector: linear, scaled so that the bright squares sit near 200
 // of 255 (the 99th percentile of the usable pixels), saturated pixels white.
 cv::Mat ToneMapped(const HdrImage& hdr) {
+  const std::vector<float> grey = hdr.Grey();
   std::vector<float> usable;
-  for (std::size_t i = 0; i < hdr.radiance.size(); ++i)
-    if (hdr.flag[i] == kHdrOk) usable.push_back(hdr.radiance[i]);
+  for (std::size_t i = 0; i < grey.size(); ++i)
+    if (hdr.flag[i] == kHdrOk) usable.push_back(grey[i]);
   float white = 1;
   if (!usable.empty()) {
     const std::size_t k = usable.size() * 99 / 100;
@@ -37,7 +38,7 @@ cv::Mat ToneMapped(const HdrImage& hdr) {
   for (int y = 0; y < hdr.height; ++y)
     for (int x = 0; x < hdr.width; ++x) {
       const std::size_t i = std::size_t(y) * hdr.width + x;
-      const double v = hdr.flag[i] == kHdrSaturated ? 255 : 200.0 * hdr.radiance[i] / white;
+      const double v = hdr.flag[i] == kHdrSaturated ? 255 : 200.0 * grey[i] / white;
       image.at<std::uint8_t>(y, x) = std::uint8_t(std::clamp(v, 0.0, 255.0));
     }
   return image;

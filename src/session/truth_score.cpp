@@ -18,12 +18,14 @@
 namespace acq {
 namespace {
 
-// The map against the card's true materials (as the mono camera records them), and the
+// The map against the card's true materials (as the camera records them: linear Rec. 709, or
+// luminance for a mono camera), and the
 // homogeneous result for the same materials at the same directions.
 void ScoreMapAgainstTruth(const Plan& plan, const std::string& dir,
                           const sim::GroundTruthFiles& truth_files, SessionReport* report) {
   const MappedBasis mapped = MappedBasis::Open(plan.reconstruction.basis_file);
-  const std::vector<MerlBrdf> truth = sim::LuminanceTables(plan.sim.materials);
+  const bool colour = CfaOf(plan.camera.settings.pixel_format) != Cfa::kNone;
+  const std::vector<MerlBrdf> truth = sim::TruthTables(plan.sim.materials, colour);
   // Where each map pixel lies on the sample: computed here, for scoring only (2 s of mrcal's
   // unprojection at 2048 x 2048, not the processing's to spend).
   const ProcessReport& process = report->process;
