@@ -2,11 +2,20 @@
 
 #include <Eigen/Core>
 
+#include <cmath>
+
+#include "acq/map_render.h"
+#include "brdf/basis_rows.h"
 #include "brdf/evaluation.h"
+#include "core/colour.h"
 #include "brdf/fov_evaluation.h"
 #include "core/error.h"
 
 namespace acq {
+DirectionPair DiffuseColourDirections() {
+  const double s = std::sqrt(0.5);
+  return {Eigen::Vector3d(s, 0, s), Eigen::Vector3d(0, 0, 1)};
+}
 
 MapScore ScoreMap(const SvbrdfMap& map, const BasisView& basis, const std::vector<int>& label,
                   const std::vector<MerlBrdf>& truth) {
@@ -21,7 +30,12 @@ MapScore ScoreMap(const SvbrdfMap& map, const BasisView& basis, const std::vecto
   const HeldOutSet held(basis, truth);
   MapScore score;
   score.log_rmse.assign(label.size(), -1.0f);
-  std::vector<double> all, valid;
+  std::vector<double> all, valid, albedo_delta_e;
+  std::array<std::vector<double>, 3> by_channel;
+  const DirectionPair diffuse = DiffuseColourDirections();
+  std::vector<std::array<double, 3>> true_diffuse;
+  for (const MerlBrdf& m : truth) true_diffuse.push_back(m.Lookup(diffuse.in, diffuse.out));
+  const RowLookup lookup = ParseRowLookup(map.info.lookup).value_or(RowLookup::kNearest);
   std::vector<std::vector<double>> by_material(truth.size());
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x) {
@@ -34,9 +48,16 @@ MapScore ScoreMap(const SvbrdfMap& map, const BasisView& basis, const std::vecto
         const Eigen::Map<const Eigen::VectorXf> coeff(cf.data(), k);
         const double e = held.LogRmse(label[p] * 3 + c, coeff.cast<double>());
         all.push_back(e);
+        by_channel[c].push_back(e);
         if (is_valid) valid.push_back(e);
         sum += e;
       }
+      const std::vector<float> c = PixelCoefficients(map, x, y);
+      const std::array<double, 3> f =
+          BrdfFromCoefficients(basis, c.data(), k, diffuse.in, diffuse.out, lookup);
+      const std::array<double, 3>& t = true_diffuse[std::size_t(label[p])];
+      albedo_delta_e.push_back(DeltaE2000(LabFromLinearRec709({kPi * f[0], kPi * f[1], kPi * f[2]}),
+                                          LabFromLinearRec709({kPi * t[0], kPi * t[1], kPi * t[2]})));
       score.log_rmse[p] = float(sum / 3);
       by_material.at(std::size_t(label[p])).push_back(sum / 3);
       ++score.pixels;
@@ -44,6 +65,9 @@ MapScore ScoreMap(const SvbrdfMap& map, const BasisView& basis, const std::vecto
     }
   for (const std::vector<double>& m : by_material)
     score.material_median_log_rmse.push_back(m.empty() ? 0 : Median(m));
+  for (int c = 0; c < 3; ++c)
+    score.channel_median_log_rmse[c] = by_channel[c].empty() ? 0 : Median(by_channel[c]);
+  score.albedo_delta_e2000_median = albedo_delta_e.empty() ? 0 : Median(albedo_delta_e);
   score.median_log_rmse = all.empty() ? 0 : Median(all);
   score.median_log_rmse_valid = valid.empty() ? 0 : Median(valid);
   return score;

@@ -4,7 +4,10 @@
 // evaluation.h, per pixel).
 #pragma once
 
+#include <array>
 #include <vector>
+
+#include "core/gantry_geometry.h"
 
 #include "brdf/basis.h"
 #include "brdf/merl_brdf.h"
@@ -18,7 +21,15 @@ struct MapScore {
   double median_log_rmse_valid = 0;              // over the pixels the map marks valid
   std::vector<float> log_rmse;                   // per pixel, mean over its channels
   std::vector<double> material_median_log_rmse;  // per true material, over its pixels
+  std::array<double, 3> channel_median_log_rmse{};  // R, G, B over every pixel
+  // The diffuse colour (pi f at DiffuseColourDirections(), as a reflectance) of each pixel
+  // against its material's, CIEDE2000 (core/colour.h): median over the pixels.
+  double albedo_delta_e2000_median = 0;
 };
+
+// Where the diffuse colour is read: light 45 degrees from the normal, camera along it, away
+// from the specular lobe (the half vector 22.5 degrees off the normal).
+DirectionPair DiffuseColourDirections();
 
 // `label[pixel]` indexes `truth`; negative: no truth there (not scored). Throws UserError when
 // the sizes disagree or the basis has fewer components than the map.

@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "brdf/evaluation.h"
+#include "core/colour.h"
 #include "core/error.h"
 
 namespace acq {
@@ -49,7 +50,8 @@ ValidationResult CompareWithCapture(const SvbrdfMap& map, const BasisView& basis
       compared[p] = 1;
     }
   double diff2 = 0, ref2 = 0;
-  std::vector<double> relative;
+  std::vector<double> relative, delta_e;
+  constexpr double kPi = 3.14159265358979323846;
   for (std::size_t p = 0; p < pixels; ++p) {
     if (!compared[p]) continue;
     for (int ch = 0; ch < 3; ++ch) {
@@ -58,8 +60,13 @@ ValidationResult CompareWithCapture(const SvbrdfMap& map, const BasisView& basis
       ref2 += b * b;
       if (b > 0) relative.push_back(std::abs(a - b) / b);
     }
+    const float* a = &result.predicted.rgb[3 * p];
+    const float* b = &result.captured.rgb[3 * p];
+    delta_e.push_back(DeltaE2000(LabFromLinearRec709({kPi * a[0], kPi * a[1], kPi * a[2]}),
+                                 LabFromLinearRec709({kPi * b[0], kPi * b[1], kPi * b[2]})));
     ++result.pixels;
   }
+  result.median_delta_e2000 = delta_e.empty() ? 0 : Median(delta_e);
   result.relative_rms = ref2 > 0 ? std::sqrt(diff2 / ref2) : 0;
   result.median_relative = relative.empty() ? 0 : Median(relative);
   return result;

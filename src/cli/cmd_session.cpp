@@ -49,6 +49,7 @@ int SessionProcess(const Argv& argv) {
     std::printf("processing setting changed: %s\n", change.c_str());
   SessionReport report;
   report.plan = r.plan.path;
+  report.colour_filter = CfaOf(r.plan.camera.settings.pixel_format);
   report.backend = std::string("acq session process (") + BackendName(r.plan.backend) + ")";
   report.session = r.plan.output;
   report.process = r.process;

@@ -187,7 +187,8 @@ ProcessReport ProcessSession(const Plan& plan, SessionCatalog& catalog,
     const std::string render = "renders/" + PoseName(Step::kValidation, checks[i].pose) + ".png";
     const ValidationResult r =
         CompareWithCapture(map, mapped.View(), std::move(checks[i]), plan.reconstruction.lookup);
-    ValidationSummary s{name, r.pixels, r.relative_rms, r.median_relative, render};
+    ValidationSummary s{name, r.pixels, r.relative_rms, r.median_relative, r.median_delta_e2000,
+                        render};
     WriteComparison(r, dir + "/" + s.render);
     report.validation.push_back(s);
   }

@@ -44,7 +44,8 @@ struct ValidationSummary {
   std::string name;  // the validation direction
   long pixels = 0;
   double relative_rms = 0, median_relative = 0;
-  std::string render;  // PNG: the map's render beside the capture
+  double median_delta_e2000 = 0;  // ValidationResult's
+  std::string render;             // PNG: the map's render beside the capture
 };
 
 struct ProcessReport {

@@ -1,5 +1,7 @@
 #include "session/report.h"
 
+#include "brdf/evaluation.h"
+
 #include <cstdio>
 #include <sstream>
 #include <vector>
@@ -89,7 +91,19 @@ std::string SessionReport::Json() const {
                                {"pixels", v.pixels},
                                {"relative_rms", v.relative_rms},
                                {"median_relative", v.median_relative},
+                               {"median_delta_e2000", v.median_delta_e2000},
                                {"render", v.render}});
+  if (colour()) {
+    std::vector<double> validation_delta_e;
+    for (const ValidationSummary& v : p.validation) validation_delta_e.push_back(v.median_delta_e2000);
+    j["colour"] = {{"camera_filter", CfaName(colour_filter)}};
+    j["colour"]["delta_e2000_validation_median"] =
+        validation_delta_e.empty() ? Json(nullptr) : Json(Median(validation_delta_e));
+    if (scored) {
+      j["colour"]["delta_e2000_albedo_median"] = score.albedo_delta_e2000_median;
+      j["colour"]["channel_median_log_rmse"] = score.channel_median_log_rmse;
+    }
+  }
   if (scored)
     j["ground_truth"] = {{"median_log_rmse", score.median_log_rmse},
                          {"median_log_rmse_valid", score.median_log_rmse_valid},
@@ -185,9 +199,10 @@ std::string ResultText(const ProcessReport& p) {
   for (const std::string& w : c.warnings) t << "  WARNING: " << w << "\n";
   for (const ValidationSummary& v : p.validation) {
     std::snprintf(line, sizeof line,
-                  "validation %s: relative RMS error %.3f, median per pixel %.3f over %ld pixels "
-                  "(%s)\n",
-                  v.name.c_str(), v.relative_rms, v.median_relative, v.pixels, v.render.c_str());
+                  "validation %s: relative RMS error %.3f, median per pixel %.3f, median "
+                  "CIEDE2000 %.2f over %ld pixels (%s)\n",
+                  v.name.c_str(), v.relative_rms, v.median_relative, v.median_delta_e2000,
+                  v.pixels, v.render.c_str());
     t << line;
   }
   return t.str();
@@ -204,6 +219,14 @@ std::string TruthText(const SessionReport& s) {
                 s.score.median_log_rmse, s.score.median_log_rmse_valid,
                 s.homogeneous_median_log_rmse);
   t << line;
+  if (s.colour()) {
+    const std::array<double, 3>& c = s.score.channel_median_log_rmse;
+    std::snprintf(line, sizeof line,
+                  "  per channel R %.4f, G %.4f, B %.4f; diffuse colour against the truth: median "
+                  "CIEDE2000 %.2f\n",
+                  c[0], c[1], c[2], s.score.albedo_delta_e2000_median);
+    t << line;
+  }
   std::snprintf(line, sizeof line,
                 "calibrated geometry against the true one: misalignment median %.3f px, worst "
                 "%.3f px; the camera centre from the board alone off by %.2f deg median, %.2f "

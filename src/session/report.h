@@ -18,6 +18,10 @@ namespace acq {
 
 struct SessionReport {
   std::string plan, backend, session;
+  // The camera's colour filter (the plan's pixel format): a colour session's report has a
+  // "colour" section (CIEDE2000 of the validation views and, simulated, of the diffuse colour).
+  Cfa colour_filter = Cfa::kNone;
+  bool colour() const { return colour_filter != Cfa::kNone; }
   // false: the session processed again by `acq session process` (no capture in this run).
   bool captured = true;
   double wall_s = 0;      // acqd's start to the report

@@ -180,6 +180,7 @@ SessionReport RunSession(const Plan& plan, StatusChannel& control, SessionStatus
   VerifySession(plan, lock, catalog);
   SessionReport report;
   report.plan = plan.path;
+  report.colour_filter = CfaOf(plan.camera.settings.pixel_format);
   report.backend = BackendName(plan.backend);
   report.session = plan.output;
   SessionDevices devices;
