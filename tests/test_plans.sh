@@ -129,6 +129,27 @@ if "$acqd" --session "$tmp/good.yaml" --dry-run 2>&1 | grep -q "^warning: at (";
 else
   passed=$((passed + 1)); echo "ok: no warning where the directions hold up"
 fi
+# Issue 16: a colour camera's plan. The matrix is the colour correction (docs/colour.md).
+variant colour_ok 's/pixel_format: Mono16/pixel_format: BayerRG16\n  colour_matrix: [1.3, -0.3, 0, -0.2, 1.4, -0.2, 0, -0.4, 1.4]/'
+expect "a colour plan" 0 colour_ok.yaml --dry-run -- "over the sample"
+variant colour_no_matrix 's/pixel_format: Mono16/pixel_format: BayerGB12/'
+expect "a colour camera without a matrix" 1 colour_no_matrix.yaml --dry-run -- \
+  "colour_no_matrix.yaml:" "a colour camera (BayerGB12) needs camera.colour_matrix"
+variant mono_matrix 's/pixel_format: Mono16/pixel_format: Mono16\n  colour_matrix: [1, 0, 0, 0, 1, 0, 0, 0, 1]/'
+expect "a mono camera with a matrix" 1 mono_matrix.yaml --dry-run -- \
+  "mono_matrix.yaml:13:" "a mono camera (Mono16) has no colour to correct"
+variant singular_matrix 's/pixel_format: Mono16/pixel_format: BayerRG8\n  colour_matrix: [1, 2, 3, 2, 4, 6, 0, 0, 1]/'
+expect "a matrix that is not invertible" 1 singular_matrix.yaml --dry-run -- \
+  "singular_matrix.yaml:13:" "is not invertible"
+variant short_matrix 's/pixel_format: Mono16/pixel_format: BayerRG8\n  colour_matrix: [1, 0, 0, 1]/'
+expect "a matrix of 4 numbers" 1 short_matrix.yaml --dry-run -- \
+  "short_matrix.yaml:13:" "must hold 9 numbers, not 4"
+variant bad_format 's/pixel_format: Mono16/pixel_format: BayerXY16/'
+expect "an unknown pixel format" 1 bad_format.yaml --dry-run -- \
+  "bad_format.yaml:12:" "unknown pixel format 'BayerXY16'" "BayerRG16"
+variant bad_filter 's/^sim:$/sim:\n  camera_filter: RGBG/'
+expect "an unknown simulated filter" 1 bad_filter.yaml --dry-run -- \
+  "bad_filter.yaml:" "sim.camera_filter 'RGBG' is not a filter"
 if grep -rq ':0:0' <("$acqd" --session "$tmp/missing_section_key.yaml" --dry-run 2>&1); then
   failures=$((failures + 1)); echo "FAIL: a place 0:0"
 fi

@@ -16,8 +16,11 @@ constexpr Kernel kRowChannelAtGreen = {{0, 0, 0.5f, 0, 0},
                                        {-1, 4, 5, 4, -1},
                                        {0, -1, 0, -1, 0},
                                        {0, 0, 0.5f, 0, 0}};
-constexpr Kernel kColumnChannelAtGreen = {
-    {0, 0, -1, 0, 0}, {0, -1, 4, -1, 0}, {0.5f, 0, 5, 0, 0.5f}, {0, -1, 4, -1, 0}, {0, 0, -1, 0, 0}};
+constexpr Kernel kColumnChannelAtGreen = {{0, 0, -1, 0, 0},
+                                          {0, -1, 4, -1, 0},
+                                          {0.5f, 0, 5, 0, 0.5f},
+                                          {0, -1, 4, -1, 0},
+                                          {0, 0, -1, 0, 0}};
 // Red at a blue photosite, or blue at a red one.
 constexpr Kernel kOppositeAtRedOrBlue = {{0, 0, -1.5f, 0, 0},
                                          {0, 2, 0, 2, 0},

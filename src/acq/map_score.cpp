@@ -7,8 +7,8 @@
 #include "acq/map_render.h"
 #include "brdf/basis_rows.h"
 #include "brdf/evaluation.h"
-#include "core/colour.h"
 #include "brdf/fov_evaluation.h"
+#include "core/colour.h"
 #include "core/error.h"
 
 namespace acq {
@@ -56,8 +56,9 @@ MapScore ScoreMap(const SvbrdfMap& map, const BasisView& basis, const std::vecto
       const std::array<double, 3> f =
           BrdfFromCoefficients(basis, c.data(), k, diffuse.in, diffuse.out, lookup);
       const std::array<double, 3>& t = true_diffuse[std::size_t(label[p])];
-      albedo_delta_e.push_back(DeltaE2000(LabFromLinearRec709({kPi * f[0], kPi * f[1], kPi * f[2]}),
-                                          LabFromLinearRec709({kPi * t[0], kPi * t[1], kPi * t[2]})));
+      albedo_delta_e.push_back(
+          DeltaE2000(LabFromLinearRec709({kPi * f[0], kPi * f[1], kPi * f[2]}),
+                     LabFromLinearRec709({kPi * t[0], kPi * t[1], kPi * t[2]})));
       score.log_rmse[p] = float(sum / 3);
       by_material.at(std::size_t(label[p])).push_back(sum / 3);
       ++score.pixels;

@@ -17,10 +17,10 @@ namespace acq {
 
 struct MapScore {
   long pixels = 0, valid = 0;
-  double median_log_rmse = 0;                    // over every pixel channel of the map
-  double median_log_rmse_valid = 0;              // over the pixels the map marks valid
-  std::vector<float> log_rmse;                   // per pixel, mean over its channels
-  std::vector<double> material_median_log_rmse;  // per true material, over its pixels
+  double median_log_rmse = 0;                       // over every pixel channel of the map
+  double median_log_rmse_valid = 0;                 // over the pixels the map marks valid
+  std::vector<float> log_rmse;                      // per pixel, mean over its channels
+  std::vector<double> material_median_log_rmse;     // per true material, over its pixels
   std::array<double, 3> channel_median_log_rmse{};  // R, G, B over every pixel
   // The diffuse colour (pi f at DiffuseColourDirections(), as a reflectance) of each pixel
   // against its material's, CIEDE2000 (core/colour.h): median over the pixels.

@@ -567,13 +567,11 @@ void CameraSpec::CheckColour() const {
                     "leave camera.colour_matrix out, or name a Bayer pixel format");
   if (!rec709_from_camera) return;
   const Eigen::Matrix3d& m = *rec709_from_camera;
-  if (!m.allFinite())
-    throw UserError("colour_matrix", "holds a number that is not finite");
+  if (!m.allFinite()) throw UserError("colour_matrix", "holds a number that is not finite");
   // Relative to its size: a matrix whose rows are nearly dependent mixes the channels into noise.
   const double det = m.determinant(), scale = m.cwiseAbs().maxCoeff();
   if (!(std::abs(det) > 1e-6 * scale * scale * scale))
-    throw UserError("colour_matrix",
-                    "is not invertible (determinant " + std::to_string(det) + ")",
+    throw UserError("colour_matrix", "is not invertible (determinant " + std::to_string(det) + ")",
                     "give the camera's characterised matrix; identity is 1 0 0 0 1 0 0 0 1");
 }
 

@@ -16,9 +16,9 @@ namespace acq {
 
 struct ValidationResult {
   std::string name;
-  long pixels = 0;               // compared: valid in the map, usable in the capture
-  double relative_rms = 0;       // ||predicted - captured|| / ||captured|| over those pixels
-  double median_relative = 0;    // median over those pixels of |predicted - captured| / captured
+  long pixels = 0;             // compared: valid in the map, usable in the capture
+  double relative_rms = 0;     // ||predicted - captured|| / ||captured|| over those pixels
+  double median_relative = 0;  // median over those pixels of |predicted - captured| / captured
   // Median over those pixels of CIEDE2000 between pi x predicted and pi x captured as linear
   // Rec. 709 reflectances (a white Lambertian lit along its normal is 1): 0 for a mono camera's
   // grey, which it compares in lightness only.

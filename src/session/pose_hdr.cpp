@@ -93,8 +93,7 @@ PoseHdr MergePose(const std::string& dir, Step step, int pose,
     const std::size_t n = std::size_t(p.hdr.width) * std::size_t(p.hdr.height);
     if (p.hdr.channels == 3) {
       const char* names[3] = {"R", "G", "B"};
-      for (int c = 0; c < 3; ++c)
-        file.planes[names[c]].assign(p.hdr.Plane(c), p.hdr.Plane(c) + n);
+      for (int c = 0; c < 3; ++c) file.planes[names[c]].assign(p.hdr.Plane(c), p.hdr.Plane(c) + n);
       file.attributes["colour"] = "camera RGB, demosaiced (" + std::string(CfaName(bracket_cfa)) +
                                   ", " + DemosaicMethodName(kDefaultDemosaic) + ")";
     } else {

@@ -38,8 +38,10 @@ std::array<ViewImage, 3> Channels(HdrImage&& hdr, const CameraSpec& camera) {
     return {image, image, image};  // the same pixels thrice: a mono camera
   }
   if (!camera.rec709_from_camera)
-    throw UserError("camera.colour_matrix", "the session's images are colour, the plan has no "
-                    "colour matrix", "give camera.colour_matrix (docs/colour.md)");
+    throw UserError("camera.colour_matrix",
+                    "the session's images are colour, the plan has no "
+                    "colour matrix",
+                    "give camera.colour_matrix (docs/colour.md)");
   const Eigen::Matrix3f m = camera.rec709_from_camera->cast<float>();
   const std::size_t n = std::size_t(hdr.width) * std::size_t(hdr.height);
   std::array<std::vector<float>, 3> rec709;
@@ -187,7 +189,7 @@ ProcessReport ProcessSession(const Plan& plan, SessionCatalog& catalog,
     const std::string render = "renders/" + PoseName(Step::kValidation, checks[i].pose) + ".png";
     const ValidationResult r =
         CompareWithCapture(map, mapped.View(), std::move(checks[i]), plan.reconstruction.lookup);
-    ValidationSummary s{name, r.pixels, r.relative_rms, r.median_relative, r.median_delta_e2000,
+    ValidationSummary s{name,  r.pixels, r.relative_rms, r.median_relative, r.median_delta_e2000,
                         render};
     WriteComparison(r, dir + "/" + s.render);
     report.validation.push_back(s);

@@ -95,7 +95,8 @@ std::string SessionReport::Json() const {
                                {"render", v.render}});
   if (colour()) {
     std::vector<double> validation_delta_e;
-    for (const ValidationSummary& v : p.validation) validation_delta_e.push_back(v.median_delta_e2000);
+    for (const ValidationSummary& v : p.validation)
+      validation_delta_e.push_back(v.median_delta_e2000);
     j["colour"] = {{"camera_filter", CfaName(colour_filter)}};
     j["colour"]["delta_e2000_validation_median"] =
         validation_delta_e.empty() ? Json(nullptr) : Json(Median(validation_delta_e));
@@ -201,8 +202,8 @@ std::string ResultText(const ProcessReport& p) {
     std::snprintf(line, sizeof line,
                   "validation %s: relative RMS error %.3f, median per pixel %.3f, median "
                   "CIEDE2000 %.2f over %ld pixels (%s)\n",
-                  v.name.c_str(), v.relative_rms, v.median_relative, v.median_delta_e2000,
-                  v.pixels, v.render.c_str());
+                  v.name.c_str(), v.relative_rms, v.median_relative, v.median_delta_e2000, v.pixels,
+                  v.render.c_str());
     t << line;
   }
   return t.str();

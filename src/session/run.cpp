@@ -54,6 +54,10 @@ void PrepareReplay(const Plan& plan, SessionCatalog& catalog, ReplayCamera& repl
 PrecomputedStages CaptureAll(const Plan& plan, SessionDevices& devices, SessionCatalog& catalog,
                              StatusChannel& control, SessionStatus& status, SessionReport* report,
                              const Phase& phase) {
+  // The camera takes the plan's settings before anything moves: a pixel format it does not
+  // offer is refused here, naming those it does.
+  phase(std::string("setting the camera to ") + PixelFormatName(plan.camera.settings.pixel_format));
+  devices.camera->Apply(plan.camera.settings);
   phase("homing");
   HomeAndWait(*devices.gantry,
               HomingTimeoutSeconds(plan.gantry.motion.SlowestAxis(), plan.gantry.motion.settle_s));
