@@ -67,8 +67,8 @@ Instrument::Instrument(const InstrumentOptions& options) : options_(options) {
   sensor_ = camera.sensor;
   const double camera_mm = options_.camera_distance_mm, light_mm = options_.light_distance_mm;
   const double intensity = options_.light_intensity;
-  const Eigen::Vector3d light_rgb = options_.light_rgb.value_or(
-      camera.cfa != Cfa::kNone ? kWarmLight : Eigen::Vector3d(1, 1, 1));
+  const Eigen::Vector3d light_rgb =
+      options_.light_rgb.value_or(camera.cfa != Cfa::kNone ? kWarmLight : Eigen::Vector3d(1, 1, 1));
   camera_ = std::make_unique<SimGigECamera>(
       scene_, model_,
       [this, camera_mm, light_mm, intensity, light_rgb] {
