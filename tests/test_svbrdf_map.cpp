@@ -1,4 +1,7 @@
 #include <catch2/catch.hpp>
+
+#include <ImfInputFile.h>
+#include <ImfStandardAttributes.h>
 #include <cmath>
 #include <filesystem>
 #include <limits>
@@ -54,6 +57,14 @@ TEST_CASE("SVBRDF map: written band by band, read back identical, with its metad
         std::vector<float>{value(3, 3, 4), value(4, 3, 4), value(5, 3, 4)});
   CHECK(map.Plane("valid", 6, 1) == value(9, 6, 1));
   CHECK(std::isinf(map.Plane("condition", 0, 2)));
+  // The colour space is stated for any OpenEXR reader: Rec. 709's primaries and D65 white.
+  const Imf::InputFile file((dir / "m.exr").c_str());
+  REQUIRE(Imf::hasChromaticities(file.header()));
+  const Imf::Chromaticities c = Imf::chromaticities(file.header());
+  CHECK(c.red.x == Approx(0.64));
+  CHECK(c.green.y == Approx(0.60));
+  CHECK(c.blue.x == Approx(0.15));
+  CHECK(c.white.x == Approx(0.3127));
 }
 
 TEST_CASE("an unfinished map leaves no file; a foreign EXR is refused", "[map]") {

@@ -1,12 +1,14 @@
 #include "io/svbrdf_map.h"
 
 #include <ImfChannelList.h>
+#include <ImfChromaticities.h>
 #include <ImfDoubleAttribute.h>
 #include <ImfFrameBuffer.h>
 #include <ImfHeader.h>
 #include <ImfInputFile.h>
 #include <ImfIntAttribute.h>
 #include <ImfOutputFile.h>
+#include <ImfStandardAttributes.h>
 #include <ImfStringAttribute.h>
 
 #include <cstdio>
@@ -60,6 +62,9 @@ SvbrdfMapWriter::SvbrdfMapWriter(const std::string& path, const SvbrdfMapInfo& i
   header.compression() = kExrCompression;
   UseExrThreads();
   for (const std::string& n : impl_->names) header.channels().insert(n, Imf::Channel(Imf::FLOAT));
+  // The coefficients' colour space: linear Rec. 709 primaries and white (OpenEXR's default
+  // Chromaticities), stated so that colour-managed readers need not assume it.
+  Imf::addChromaticities(header, Imf::Chromaticities());
   header.insert("acqFormat", Imf::StringAttribute(kFormat));
   header.insert("acqBasis", Imf::StringAttribute(info.basis));
   header.insert("acqBasisCrc32", Imf::StringAttribute(Hex(info.basis_crc32)));
