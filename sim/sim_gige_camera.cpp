@@ -96,9 +96,10 @@ void ReplacePixelFormatEntries(std::string* xml, Cfa cfa) {
   xml->replace(from, end - from, entries + "\n\t\t");
 }
 
-// Camera RGB through the filter: each photosite keeps the channel its filter passes.
-std::vector<float> Mosaic(const RadianceImage& rec709, const Eigen::Matrix3d& camera_from_rec709,
-                          Cfa cfa) {
+}  // namespace
+
+std::vector<float> MosaicOf(const RadianceImage& rec709, const Eigen::Matrix3d& camera_from_rec709,
+                            Cfa cfa) {
   const Eigen::Matrix3f m = camera_from_rec709.cast<float>();
   std::vector<float> out(std::size_t(rec709.width) * std::size_t(rec709.height));
 #pragma omp parallel for schedule(static)
@@ -110,8 +111,6 @@ std::vector<float> Mosaic(const RadianceImage& rec709, const Eigen::Matrix3d& ca
     }
   return out;
 }
-
-}  // namespace
 
 Eigen::Matrix3d PlausibleCameraCrosstalk() {
   Eigen::Matrix3d m;
@@ -268,7 +267,7 @@ void SimGigECamera::Fill(void* buffer_pointer, std::uint32_t exposure_us, std::u
                                                   options_.ray_grid_step_px);
       radiance_ = options_.cfa == Cfa::kNone
                       ? rec709.Channel(options_.channel)
-                      : Mosaic(rec709, options_.camera_from_rec709, options_.cfa);
+                      : MosaicOf(rec709, options_.camera_from_rec709, options_.cfa);
       render_seconds_ =
           std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
       rendered_view_ = view;

@@ -112,4 +112,9 @@ std::string SimCameraGenicamXml(Cfa cfa = Cfa::kNone);
 // the plan's camera.colour_matrix).
 Eigen::Matrix3d PlausibleCameraCrosstalk();
 
+// What a colour sensor's photosites see: camera RGB (camera_from_rec709 x the linear Rec. 709
+// radiance), each photosite keeping the channel its filter passes.
+std::vector<float> MosaicOf(const RadianceImage& rec709, const Eigen::Matrix3d& camera_from_rec709,
+                            Cfa cfa);
+
 }  // namespace acq::sim
