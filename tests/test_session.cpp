@@ -879,5 +879,12 @@ TEST_CASE(
     // example plan; 6 fails an uncorrected camera (the cross-talk alone is over 10).
     CHECK(colour.at("delta_e2000_validation_median").get<double>() < 6);
     CHECK(colour.at("delta_e2000_albedo_median").get<double>() < 6);
+    // The filter is a capture setting: resuming with another is refused, naming it.
+    std::string other = ReadText(plan);
+    other.replace(other.find("sim:\n"), 5, "sim:\n  camera_filter: BGGR\n");
+    std::ofstream(plan) << other;
+    const std::string log = tmp / "other-filter.log";
+    CHECK(Wait(StartAcqd(plan, socket, log)) == 1);
+    CHECK(ReadText(log).find("sim.camera_filter: RGGB -> BGGR") != std::string::npos);
   }
 }

@@ -155,8 +155,23 @@ std::vector<PlanSetting> PlanSettings(const Plan& plan) {
       s.Capture("sim.materials[" + std::to_string(i + 1) + "]", FileValue(plan.sim.materials[i]));
     s.Capture("sim.seed", std::to_string(plan.sim.seed));
     s.Capture("sim.light_intensity", Number(plan.sim.light_intensity));
+    // The simulated sensor's filter and light change every frame (a resume with another would
+    // mix two cameras' frames in one map). Recorded where not the mono camera's white light, so
+    // that the sessions recorded before colour existed still resume.
+    const Cfa filter = plan.sim.camera_filter.value_or(CfaOf(plan.camera.settings.pixel_format));
+    if (filter != Cfa::kNone) s.Capture("sim.camera_filter", CfaName(filter));
+    if (const auto& rgb = plan.sim.light_rgb)
+      s.Capture("sim.light_rgb", Numbers({rgb->x(), rgb->y(), rgb->z()}));
   }
   // Processing only: the frames stay what they are.
+  // The colour matrix is applied to the HDR images when processing (a camera characterised
+  // later may reprocess its sessions with it).
+  if (plan.camera.rec709_from_camera) {
+    const Eigen::Matrix3d& m = *plan.camera.rec709_from_camera;
+    std::vector<double> rows;  // row by row, as the plan gives it
+    for (int i = 0; i < 9; ++i) rows.push_back(m(i / 3, i % 3));
+    s.Processing("camera.colour_matrix", Numbers(rows));
+  }
   s.Processing("calibration.camera_model", FileValue(plan.calibration.intrinsics_file));
   s.Processing("calibration.lensmodel", plan.calibration.lensmodel);
   s.Processing("reconstruction.basis", FileValue(plan.reconstruction.basis_file));
