@@ -131,6 +131,9 @@ void Instrument::Place(const Placement& p) {
         scene.sample_from_chessboard = held_boards_[std::size_t(p.held_pose) - 1];
       }
       break;
+    case Item::kChart:
+      scene.kind = RenderScene::Kind::kChart;
+      break;
     case Item::kSample:
       break;
   }

@@ -39,6 +39,14 @@ std::array<double, 3> Brdf(const RenderScene& scene, const Eigen::Vector2d& poin
     case RenderScene::Kind::kSpectralon:
       if (std::abs(point.x()) >= half || std::abs(point.y()) >= half) break;
       return lambert(scene.spectralon_albedo);
+    case RenderScene::Kind::kChart: {
+      if (!scene.chart.OnChart(point)) break;
+      const std::optional<int> patch = scene.chart.PatchAt(point);
+      if (!patch) return lambert(scene.chart_body_albedo);
+      std::array<double, 3> f = ColorCheckerClassic()[std::size_t(*patch)].rgb;
+      for (double& v : f) v /= kPi;
+      return f;
+    }
   }
   return lambert(scene.background_albedo);
 }

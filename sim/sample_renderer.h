@@ -18,12 +18,13 @@
 
 #include "calib/board.h"
 #include "calib/camera_model.h"
+#include "core/colour_chart.h"
 #include "sim/synthetic_svbrdf.h"
 
 namespace acq::sim {
 
 struct RenderScene {
-  enum class Kind { kCard, kChessboard, kSpectralon } kind = Kind::kCard;
+  enum class Kind { kCard, kChessboard, kSpectralon, kChart } kind = Kind::kCard;
   double sample_size_mm = 100;  // the square Spectralon board centred at the origin (the card:
                                 // its own SyntheticSvbrdf::sample_size_mm)
   SyntheticSvbrdf card;         // kCard: material labels over the sample
@@ -39,7 +40,11 @@ struct RenderScene {
   calib::Pose sample_from_chessboard;
   double board_black = 0.04, board_white = 0.85;  // Lambertian albedos of its squares
   double spectralon_albedo = 0.99;                // kSpectralon: Lambertian
-  double background_albedo = 0.02;                // the dark cloth around the sample (Lambertian)
+  // kChart: a ColorChecker Classic flat on the sample plane (core/colour_chart.h), its patches
+  // Lambertian with their reference colours on a black body.
+  ChartLayout chart;
+  double chart_body_albedo = 0.03;
+  double background_albedo = 0.02;  // the dark cloth around the sample (Lambertian)
 };
 
 struct PointLight {

@@ -134,7 +134,18 @@ variant colour_ok 's/pixel_format: Mono16/pixel_format: BayerRG16\n  colour_matr
 expect "a colour plan" 0 colour_ok.yaml --dry-run -- "over the sample"
 variant colour_no_matrix 's/pixel_format: Mono16/pixel_format: BayerGB12/'
 expect "a colour camera without a matrix" 1 colour_no_matrix.yaml --dry-run -- \
-  "colour_no_matrix.yaml:" "a colour camera (BayerGB12) needs camera.colour_matrix"
+  "colour_no_matrix.yaml:" "a colour camera (BayerGB12) needs camera.colour_chart or camera.colour_matrix"
+variant colour_chart 's/pixel_format: Mono16/pixel_format: BayerRG16\n  colour_chart: true/'
+expect "a colour plan with a chart" 0 colour_chart.yaml --dry-run -- "over the sample"
+variant chart_and_matrix 's/pixel_format: Mono16/pixel_format: BayerRG16\n  colour_chart: true\n  colour_matrix: [1, 0, 0, 0, 1, 0, 0, 0, 1]/'
+expect "a chart and a matrix" 1 chart_and_matrix.yaml --dry-run -- \
+  "chart_and_matrix.yaml:13:" "camera.colour_chart and camera.colour_matrix exclude each other"
+variant mono_chart 's/pixel_format: Mono16/pixel_format: Mono16\n  colour_chart: true/'
+expect "a mono camera with a chart" 1 mono_chart.yaml --dry-run -- \
+  "mono_chart.yaml:13:" "a mono camera (Mono16) has no colour to correct"
+variant chart_no_spectralon 's/pixel_format: Mono16/pixel_format: BayerRG16\n  colour_chart: true/; s/^spectralon: true/spectralon: false/'
+expect "a chart without the Spectralon" 1 chart_no_spectralon.yaml --dry-run -- \
+  "chart_no_spectralon.yaml:" "the colour chart needs the Spectralon captures"
 variant mono_matrix 's/pixel_format: Mono16/pixel_format: Mono16\n  colour_matrix: [1, 0, 0, 0, 1, 0, 0, 0, 1]/'
 expect "a mono camera with a matrix" 1 mono_matrix.yaml --dry-run -- \
   "mono_matrix.yaml:13:" "a mono camera (Mono16) has no colour to correct"

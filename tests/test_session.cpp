@@ -817,17 +817,16 @@ TEST_CASE("session in-process: a lost camera and an abort, each resumed, give th
     CHECK(replayed.planes[c] == recorded.planes[c]);
 }
 
-// Issue 16: the same session through a Bayer camera (the simulated one's cross-talk inverted
-// as the plan's colour matrix, a warm light that the Spectralon captures remove), and a colour
-// plan on a camera without that format, refused before anything moves.
+// Issue 16: the same session through a Bayer camera (its cross-talk and the warm light fitted
+// from a colour chart captured in the session; the Spectralon captures remove the light), and a
+// colour plan on a camera without that format, refused before anything moves.
 TEST_CASE(
     "session: a colour camera gives a colour map as good as the mono one; a format the "
     "camera lacks is refused before motion",
     "[integration]") {
   const test::TempDir tmp;
   const std::string colour_camera =
-      "camera:\n  pixel_format: BayerRG16\n  colour_matrix: [1.33069, -0.30884, -0.02185, "
-      "-0.20854, 1.429, -0.22046, -0.00993, -0.40814, 1.41807]\n  hdr:";
+      "camera:\n  pixel_format: BayerRG16\n  colour_chart: true\n  hdr:";
   auto colour_plan = [&](const std::string& dir, const std::string& sim_extra) {
     std::string text = ReadText(WritePlan(dir, SharedBasis()));
     text.replace(text.find("camera:\n  hdr:"), std::string("camera:\n  hdr:").size(),
@@ -873,6 +872,12 @@ TEST_CASE(
     CHECK(colour_error < 1.25 * mono_error);
     const nlohmann::json colour = nlohmann::json::parse(json).at("colour");
     CHECK(colour.at("camera_filter") == "RGGB");
+    // The chart: its patches found and fitted (this plan's 2-exposure bracket leaves the black
+    // patch under the noise floor: 23 measured); the issue's bound on the worst patch is 3
+    // (measured 1.44 here, 1.05 on the example plan).
+    CHECK(colour.at("matrix_from") == "chart");
+    CHECK(colour.at("chart_patches_used").get<int>() >= 20);
+    CHECK(colour.at("chart_residual_delta_e2000_max").get<double>() < 3);
     REQUIRE(colour.at("channel_median_log_rmse").size() == 3);
     for (double c : colour.at("channel_median_log_rmse")) CHECK(c < 1.25 * mono_error);
     // CIEDE2000 of the validation views and of the diffuse colour: measured 3.4 and 2.9 on the

@@ -328,8 +328,8 @@ GantrySpec ReadGantry(const Section& top) {
 }
 
 CameraSpec ReadCamera(const Section& top, Backend backend) {
-  const Section camera =
-      top.Child("camera", {"id", "pixel_format", "gain_db", "hdr", "colour_matrix"});
+  const Section camera = top.Child(
+      "camera", {"id", "pixel_format", "gain_db", "hdr", "colour_matrix", "colour_chart"});
   CameraSpec c;
   c.id = camera.Text("id");
   camera.At("pixel_format", [&] {
@@ -352,7 +352,9 @@ CameraSpec ReadCamera(const Section& top, Backend backend) {
     throw UserError(hdr.Where("auto"), "camera.hdr has both auto and bracket_us",
                     "choose one: a fixed bracket or the automatic one");
   camera.Checked([&] { c.Check(); });
-  camera.At("colour_matrix", [&] { c.CheckColour(); });
+  c.colour_chart = camera.Flag("colour_chart", false);
+  camera.At(camera.Has("colour_chart") ? "colour_chart" : "colour_matrix",
+            [&] { c.CheckColour(); });
   if (backend == Backend::kUsbAravis && c.id.empty())
     throw UserError(camera.Where("id"), "the usb+aravis backend needs camera.id",
                     "`arv-tool-0.8` lists the cameras and their ids");
@@ -554,17 +556,22 @@ void GantrySpec::Check() const {
 
 void CameraSpec::CheckColour() const {
   const bool colour = CfaOf(settings.pixel_format) != Cfa::kNone;
-  if (colour && !rec709_from_camera)
+  if (colour && !rec709_from_camera && !colour_chart)
     throw UserError("colour_matrix",
                     std::string("a colour camera (") + PixelFormatName(settings.pixel_format) +
-                        ") needs camera.colour_matrix",
-                    "give the 3 x 3 matrix from its RGB to linear Rec. 709 (docs/colour.md); "
-                    "a colour chart capture to fit it is not built yet");
-  if (!colour && rec709_from_camera)
-    throw UserError("colour_matrix",
+                        ") needs camera.colour_chart or camera.colour_matrix",
+                    "colour_chart: true captures a ColorChecker to fit its colour matrix; or give "
+                    "the 3 x 3 matrix of a camera characterised before (docs/colour.md)");
+  if (colour_chart && rec709_from_camera)
+    throw UserError("colour_chart",
+                    "camera.colour_chart and camera.colour_matrix exclude each other",
+                    "fit the matrix from a chart captured in this session, or give one; not both");
+  if (!colour && (rec709_from_camera || colour_chart))
+    throw UserError(colour_chart ? "colour_chart" : "colour_matrix",
                     std::string("a mono camera (") + PixelFormatName(settings.pixel_format) +
                         ") has no colour to correct",
-                    "leave camera.colour_matrix out, or name a Bayer pixel format");
+                    "leave camera.colour_matrix and camera.colour_chart out, or name a Bayer "
+                    "pixel format");
   if (!rec709_from_camera) return;
   const Eigen::Matrix3d& m = *rec709_from_camera;
   if (!m.allFinite()) throw UserError("colour_matrix", "holds a number that is not finite");
@@ -626,6 +633,11 @@ Plan LoadPlan(const std::string& path, const std::string& relative_to) {
                     "a real instrument needs the Spectralon captures: they measure the light "
                     "for the reconstruction",
                     "set spectralon: true");
+  if (plan.camera.colour_chart && !plan.spectralon)
+    throw UserError(
+        top.Where("spectralon"),
+        "the colour chart needs the Spectralon captures (its white at the chart's pose)",
+        "set spectralon: true, or give camera.colour_matrix instead of the chart");
   plan.sim = ReadSim(root, top, base, plan.backend);
   plan.reconstruction = ReadReconstruction(top, base);
   if (optimizer) optimizer->At("n", [&] { OptimizePlanDirections(&plan); });

@@ -47,6 +47,9 @@ struct CameraSpec {         // camera:
   // by row, for a camera characterised before (docs/colour.md); the light's colour is left to
   // the Spectralon captures. Unset for a mono camera.
   std::optional<Eigen::Matrix3d> rec709_from_camera;
+  // camera.colour_chart (a Bayer camera): a ColorChecker captured at the sample's first pose,
+  // from which the processing fits rec709_from_camera (acq/colour_chart_fit.h).
+  bool colour_chart = false;
   void Check() const;
   void CheckColour() const;  // a matrix for a colour camera only, and an invertible one
 };

@@ -150,6 +150,7 @@ std::vector<PlanSetting> PlanSettings(const Plan& plan) {
             Numbers({double(plan.calibration.board_width_n),
                      double(plan.calibration.board_height_n), plan.calibration.board_spacing_mm}));
   s.Capture("spectralon", plan.spectralon ? "true" : "false");
+  if (plan.camera.colour_chart) s.Capture("camera.colour_chart", "true");
   if (plan.backend == Backend::kSim) {
     for (std::size_t i = 0; i < plan.sim.materials.size(); ++i)
       s.Capture("sim.materials[" + std::to_string(i + 1) + "]", FileValue(plan.sim.materials[i]));

@@ -2,6 +2,7 @@
 
 #include <array>
 #include <cstdlib>
+#include <iterator>
 
 namespace acq {
 namespace {
@@ -10,7 +11,7 @@ struct StepName {
   Step step;
   const char* name;
 };
-constexpr std::array<StepName, 7> kSteps{{
+constexpr std::array<StepName, 8> kSteps{{
     {Step::kIntrinsics, "intrinsics"},
     {Step::kBoard, "board"},
     {Step::kBoardValidation, "board_validation"},
@@ -18,9 +19,10 @@ constexpr std::array<StepName, 7> kSteps{{
     {Step::kValidation, "validation"},
     {Step::kSpectralon, "spectralon"},
     {Step::kSpectralonValidation, "spectralon_validation"},
+    {Step::kChart, "chart"},
 }};
 
-constexpr const char* kItemNames[] = {"sample", "spectralon", "board"};
+constexpr const char* kItemNames[] = {"sample", "spectralon", "board", "chart"};
 
 }  // namespace
 
@@ -53,6 +55,8 @@ Item ItemOf(Step s) {
     case Step::kSpectralon:
     case Step::kSpectralonValidation:
       return Item::kSpectralon;
+    case Step::kChart:
+      return Item::kChart;
     default:
       return Item::kBoard;
   }
@@ -84,7 +88,7 @@ std::string ToString(const Placement& p) {
 std::optional<Placement> ParsePlacement(const std::string& text) {
   const std::size_t slash = text.find('/');
   const std::string head = text.substr(0, slash);
-  for (int i = 0; i < 3; ++i) {
+  for (int i = 0; i < int(std::size(kItemNames)); ++i) {
     if (head != kItemNames[i]) continue;
     Placement p{Item(i), 0};
     if (slash == std::string::npos) return p;

@@ -19,13 +19,14 @@ enum class Step {
   kValidation,       // the sample at the validation directions (never reconstructed from)
   kSpectralon,       // the Spectralon at the sample's poses: the light's irradiance per view
   kSpectralonValidation,
+  kChart,  // a colour camera's chart at the sample's first pose (core/colour_chart.h)
 };
 const char* ToString(Step s);  // "intrinsics", "board", "board_validation", ...
 std::optional<Step> ParseStep(const std::string& text);
 const std::vector<Step>& AllSteps();  // in capture order
 
 // What lies under the gantry for a step.
-enum class Item { kSample, kSpectralon, kBoard };
+enum class Item { kSample, kSpectralon, kBoard, kChart };
 Item ItemOf(Step s);
 // The step whose poses are `s`'s (sample, spectralon: sample; the validation ones: validation).
 Step PosesOf(Step s);
@@ -39,7 +40,7 @@ struct Placement {
   bool operator==(const Placement& o) const { return item == o.item && held_pose == o.held_pose; }
   bool operator!=(const Placement& o) const { return !(*this == o); }
 };
-std::string ToString(const Placement& p);  // "sample", "spectralon", "board", "board/3"
+std::string ToString(const Placement& p);  // "sample", "spectralon", "board", "board/3", "chart"
 std::optional<Placement> ParsePlacement(const std::string& text);
 
 }  // namespace acq

@@ -74,6 +74,10 @@ std::string Instructions(const Placement& p, int intrinsics_captures) {
              std::to_string(intrinsics_captures) +
              " under the camera: all of it in view, tilted 20 to 40 degrees, a different part "
              "of the image and a different tilt each time";
+    case Item::kChart:
+      return "place the colour chart (ColorChecker Classic) flat on the sample plane, centred, "
+             "its dark skin patch at the corner towards gantry azimuth 180 and 270, the grey row "
+             "towards 90";
     case Item::kSample:
       break;
   }
@@ -161,6 +165,10 @@ std::vector<Direction> IntrinsicsDirection() {
 SessionVisits PlanVisits(const Plan& plan) {
   SessionVisits v;
   v.sample = PlanShortest(plan.directions, plan.gantry.motion);
+  if (plan.camera.colour_chart && !v.sample.poses.empty()) {
+    v.chart.poses.push_back(v.sample.poses.front());
+    v.chart.total_s = v.chart.poses.front().move_s;
+  }
   if (!plan.validation.empty()) v.validation = PlanShortest(plan.validation, plan.gantry.motion);
   if (plan.calibration.intrinsics_captures > 0) {
     // The one pose, held for every capture (the moves after the first are empty).
@@ -191,6 +199,8 @@ std::vector<CaptureStep> CaptureSteps(const Plan& plan, const SessionVisits& vis
     if (validate)
       steps.push_back({Step::kSpectralonValidation, &visits.validation, &plan.validation});
   }
+  // The chart at the sample's first pose, where the Spectralon and the board were too.
+  if (plan.camera.colour_chart) steps.push_back({Step::kChart, &visits.chart, &plan.directions});
   return steps;
 }
 

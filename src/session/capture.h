@@ -64,6 +64,7 @@ std::vector<Direction> IntrinsicsDirection();
 struct SessionVisits {
   VisitPlan intrinsics;  // the intrinsics pose, once per capture
   VisitPlan sample, validation;
+  VisitPlan chart;  // the sample's first pose again, for the colour chart (or none)
   std::vector<Direction> intrinsics_direction = IntrinsicsDirection();
 };
 SessionVisits PlanVisits(const Plan& plan);

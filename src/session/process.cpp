@@ -30,19 +30,19 @@ namespace fs = std::filesystem;
 // A pose's R, G and B in linear Rec. 709: a mono camera's one image thrice; a colour camera's
 // demosaiced camera RGB through the plan's colour matrix (the light's colour stays, for the
 // Spectralon captures to divide out channel by channel).
-std::array<ViewImage, 3> Channels(HdrImage&& hdr, const CameraSpec& camera) {
+std::array<ViewImage, 3> Channels(HdrImage&& hdr,
+                                  const std::optional<Eigen::Matrix3d>& rec709_from_camera) {
   std::vector<std::uint8_t> unusable(hdr.flag.size());
   for (std::size_t i = 0; i < unusable.size(); ++i) unusable[i] = hdr.flag[i] != kHdrOk;
   if (hdr.channels == 1) {
     const ViewImage image(hdr.width, hdr.height, std::move(hdr.radiance), std::move(unusable));
     return {image, image, image};  // the same pixels thrice: a mono camera
   }
-  if (!camera.rec709_from_camera)
+  if (!rec709_from_camera)
     throw UserError("camera.colour_matrix",
-                    "the session's images are colour, the plan has no "
-                    "colour matrix",
-                    "give camera.colour_matrix (docs/colour.md)");
-  const Eigen::Matrix3f m = camera.rec709_from_camera->cast<float>();
+                    "the session's images are colour, the plan has no colour matrix or chart",
+                    "give camera.colour_chart or camera.colour_matrix (docs/colour.md)");
+  const Eigen::Matrix3f m = rec709_from_camera->cast<float>();
   const std::size_t n = std::size_t(hdr.width) * std::size_t(hdr.height);
   std::array<std::vector<float>, 3> rec709;
   for (auto& plane : rec709) plane.resize(n);
@@ -91,13 +91,13 @@ std::vector<SessionView> ViewsOf(const Plan& plan, Step step, Step spectralon_st
       view.correspondence =
           PoseCorrespondence(session.dir, step, pose, reference, calibrated, &correspondence_s);
     }
-    view.sample = Channels(std::move(p.hdr), plan.camera);
+    view.sample = Channels(std::move(p.hdr), report->rec709_from_camera);
     if (plan.spectralon) {
       const auto s = spectralon.find(pose);
       if (s == spectralon.end())
         throw UserError(session.dir, "no Spectralon capture of " + view.name,
                         "run acqd again with the same plan to capture what is missing");
-      view.spectralon = Channels(std::move(s->second.hdr), plan.camera);
+      view.spectralon = Channels(std::move(s->second.hdr), report->rec709_from_camera);
     }
     view.light_in_sample_mm = calibrated.light_in_sample_mm;
     view.light_intensity = geometry.light_intensity;
@@ -120,6 +120,36 @@ void WriteComparison(const ValidationResult& r, const std::string& path) {
             r.captured.rgb[from];
       }
   WritePng(both, path);
+}
+
+// The colour matrix from the chart captured at the sample's first pose, with the Spectralon
+// and the board captured there.
+ChartFit FitSessionChart(const Plan& plan, const SessionFrames& session,
+                         const PrecomputedStages& precomputed, ProcessReport* report) {
+  const std::string where = session.dir + ": the colour chart";
+  const BoardPoseResult* board = report->calibration.PoseOf(Step::kChart, 0);
+  if (!board)
+    throw UserError(where, "the board at the chart's pose (board_000) was not found",
+                    "capture the session again with the board visible at its first pose");
+  auto merged = [&](Step step) {
+    const auto known = precomputed.poses.find({step, 0});
+    if (known != precomputed.poses.end()) return known->second;
+    const std::vector<CatalogFrame> frames = session.OfPose(step, 0);
+    if (frames.empty())
+      throw UserError(where, std::string("no ") + ToString(step) + " capture at the chart's pose",
+                      "run acqd again with the same plan to capture what is missing");
+    return MergePose(session.dir, step, 0, frames, &report->hdr_s);
+  };
+  const PoseHdr chart = merged(Step::kChart), white = merged(Step::kSpectralon);
+  const calib::CalibratedView view =
+      CalibratedViewOf(plan, report->calibration.camera, *board, chart.arms);
+  const SampleToImage to_image =
+      [&view](const Eigen::Vector2d& p) -> std::optional<Eigen::Vector2d> {
+    const Eigen::Vector3d in_cam = view.cam_from_sample * Eigen::Vector3d(p.x(), p.y(), 0);
+    if (!(in_cam.z() > 0)) return std::nullopt;
+    return view.camera.Project(in_cam);
+  };
+  return FitColourChart(chart.hdr, white.hdr, to_image, where);
 }
 
 // The map from the sample's views into svbrdf.exr. The views are released on return (their
@@ -167,6 +197,12 @@ ProcessReport ProcessSession(const Plan& plan, SessionCatalog& catalog,
   report.reference_width = reference.view().width;
   report.reference_height = reference.view().height;
 
+  report.rec709_from_camera = plan.camera.rec709_from_camera;
+  if (plan.camera.colour_chart) {
+    report.chart = FitSessionChart(plan, session, precomputed, &report);
+    report.rec709_from_camera = report.chart->rec709_from_camera;
+    catalog.Event("info", "colour matrix fitted from the chart");
+  }
   std::vector<SessionView> views = ViewsOf(plan, Step::kSample, Step::kSpectralon, reference,
                                            geometry, session, precomputed, &report);
   if (views.empty()) throw UserError(dir, "no sample frames to process");

@@ -23,6 +23,7 @@
 #include <string>
 #include <vector>
 
+#include "acq/colour_chart_fit.h"
 #include "acq/plan.h"
 #include "acq/reconstruction_job.h"
 #include "acq/validation.h"
@@ -56,6 +57,9 @@ struct ProcessReport {
   double pixel_size_mm = 0;
   ReconstructionReport reconstruction;
   std::vector<ValidationSummary> validation;
+  // A colour camera's matrix as the processing used it (the plan's, or fitted from the chart).
+  std::optional<Eigen::Matrix3d> rec709_from_camera;
+  std::optional<ChartFit> chart;  // camera.colour_chart: the fit and each patch's residual
 };
 
 // What was computed before the processing runs, taken as it is instead of computed again or

@@ -100,6 +100,25 @@ std::string SessionReport::Json() const {
     j["colour"] = {{"camera_filter", CfaName(colour_filter)}};
     j["colour"]["delta_e2000_validation_median"] =
         validation_delta_e.empty() ? Json(nullptr) : Json(Median(validation_delta_e));
+    if (p.rec709_from_camera) {
+      Json rows = Json::array();
+      for (int r = 0; r < 3; ++r)
+        rows.push_back({(*p.rec709_from_camera)(r, 0), (*p.rec709_from_camera)(r, 1),
+                        (*p.rec709_from_camera)(r, 2)});
+      j["colour"]["rec709_from_camera"] = rows;
+      j["colour"]["matrix_from"] = p.chart ? "chart" : "plan";
+    }
+    if (p.chart) {
+      j["colour"]["chart_residual_delta_e2000_max"] = p.chart->max_delta_e2000;
+      j["colour"]["chart_residual_delta_e2000_median"] = p.chart->median_delta_e2000;
+      j["colour"]["chart_patches_used"] = p.chart->used;
+      Json patches = Json::array();
+      for (const ChartPatchFit& patch : p.chart->patches)
+        patches.push_back(patch.used
+                              ? Json{{"name", patch.name}, {"delta_e2000", patch.delta_e2000}}
+                              : Json{{"name", patch.name}, {"dropped", patch.dropped}});
+      j["colour"]["chart_patches"] = patches;
+    }
     if (scored) {
       j["colour"]["delta_e2000_albedo_median"] = score.albedo_delta_e2000_median;
       j["colour"]["channel_median_log_rmse"] = score.channel_median_log_rmse;
@@ -198,6 +217,20 @@ std::string ResultText(const ProcessReport& p) {
                   c.boards.size());
   t << line;
   for (const std::string& w : c.warnings) t << "  WARNING: " << w << "\n";
+  if (p.chart) {
+    const ChartPatchFit* worst = nullptr;
+    for (const ChartPatchFit& patch : p.chart->patches)
+      if (patch.used && (!worst || patch.delta_e2000 > worst->delta_e2000)) worst = &patch;
+    std::snprintf(line, sizeof line,
+                  "colour chart: matrix fitted from %d of 24 patches, residual CIEDE2000 median "
+                  "%.2f, worst %.2f (%s)\n",
+                  p.chart->used, p.chart->median_delta_e2000, p.chart->max_delta_e2000,
+                  worst ? worst->name.c_str() : "-");
+    t << line;
+    for (const ChartPatchFit& patch : p.chart->patches)
+      if (!patch.used)
+        t << "  WARNING: chart patch " << patch.name << " left out: " << patch.dropped << "\n";
+  }
   for (const ValidationSummary& v : p.validation) {
     std::snprintf(line, sizeof line,
                   "validation %s: relative RMS error %.3f, median per pixel %.3f, median "

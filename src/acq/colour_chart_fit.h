@@ -1,0 +1,51 @@
+// The colour matrix from a captured colour chart (issue 16; docs/colour.md): the chart's patches
+// located through the calibrated camera at its pose, each patch's camera RGB divided by the grey
+// of the Spectralon captured at the same pose and pixels (which removes the light's fall-off, not
+// its colour), and the 3 x 3 matrix A that takes those to the patches' reference reflectances by
+// least squares. A = diag(1 / light) x (camera's cross-talk)^-1 up to a scale: applied to every
+// image, the light's colour goes too, and the Spectralon division per channel stays exact.
+#pragma once
+
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "acq/hdr.h"
+#include "core/colour_chart.h"
+
+namespace acq {
+
+struct ChartPatchFit {
+  std::string name;
+  bool used = false;
+  std::string dropped;          // why it was left out, when not used
+  std::array<double, 3> rgb{};  // corrected: A x its camera RGB (linear Rec. 709)
+  double delta_e2000 = 0;       // against its reference, when used
+};
+
+struct ChartFit {
+  Eigen::Matrix3d rec709_from_camera = Eigen::Matrix3d::Identity();
+  std::vector<ChartPatchFit> patches;  // the chart's 24, in its order
+  int used = 0;
+  double max_delta_e2000 = 0, median_delta_e2000 = 0;
+};
+
+// Fewer usable patches than this and the fit is refused: 9 unknowns, and the patches must span
+// the hues (a chart half covered fits its visible half only).
+inline constexpr int kMinChartPatches = 12;
+
+// A point on the sample plane (mm) to the image (pixels), or nullopt where not visible.
+using SampleToImage = std::function<std::optional<Eigen::Vector2d>(const Eigen::Vector2d&)>;
+
+// `chart` and `spectralon`: demosaiced camera RGB (3 planes) at the same pose. A patch is
+// dropped (named, with why) when a pixel of its centre is flagged or off the image, or its
+// values vary beyond what noise explains (covered, or not where the layout says). Throws
+// UserError naming `where` when fewer than kMinChartPatches remain.
+ChartFit FitColourChart(const HdrImage& chart, const HdrImage& spectralon,
+                        const SampleToImage& to_image, const std::string& where,
+                        const ChartLayout& layout = {});
+
+}  // namespace acq
