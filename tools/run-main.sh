@@ -11,8 +11,9 @@
 #      field of view through the optimised directions, reconstructed pixel by pixel into an
 #      SVBRDF map and scored against its ground truth;
 #   4. renders of the map: quick looks, a view under a new arm pose, spheres of chosen pixels;
-#   5. acqd on examples/plan-sim.yaml: the simulated instrument captures the calibration
-#      boards and the card, and acqd calibrates, aligns and reconstructs it into an SVBRDF map;
+#   5. acqd on examples/plan-sim.yaml: the simulated instrument's colour camera captures the
+#      calibration boards, the card, the Spectralon and a colour chart, and acqd calibrates,
+#      fits the colour matrix, aligns and reconstructs it into a colour SVBRDF map;
 #   6. acqd replays that session (examples/plan-replay.yaml) through the same code.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -64,7 +65,7 @@ $acq render spheres --map "$out/card_svbrdf.exr" --pixel 128,20 --pixel 60,60 --
   --pixel 40,160 -o "$out/card_spheres.png"
 $acq render export --map "$out/card_svbrdf.exr" --pixel 60,60 -o "$out/card_pixel_60_60.binary"
 echo
-echo "== 5. a simulated capture through acqd (gantry on emulated USB, camera on loopback GigE) =="
+echo "== 5. a simulated colour capture through acqd (gantry on emulated USB, Bayer camera on loopback GigE) =="
 rm -rf out/sessions/sim-card
 build/src/daemon/acqd --session examples/plan-sim.yaml --dry-run | tail -14
 build/src/daemon/acqd --session examples/plan-sim.yaml --socket "out/acqd.sock"
@@ -88,12 +89,13 @@ echo "  card_view.png              the card re-rendered under a new light and ca
 echo "  card_spheres.png           spheres with the BRDFs of four pixels"
 echo "  card_pixel_60_60.binary    one pixel's BRDF as a MERL .binary"
 echo "and in out/sessions/sim-card (the simulated capture and its processing by acqd):"
-echo "  frames/*.exr               every pose's frames (boards, sample, validation, Spectralon)"
+echo "  frames/*.exr               every pose's frames (Bayer: boards, sample, validation, Spectralon, chart)"
 echo "  catalog.sqlite             the session catalog: frames with checksums, steps, events"
 echo "  calibration/               camera.cameramodel, intrinsics.txt, extrinsics.tsv, corners"
-echo "  hdr/, correspondence/      merged radiance per pose; reference-to-view maps"
-echo "  svbrdf.exr                 the reconstructed SVBRDF map (docs/svbrdf-map.md)"
+echo "  hdr/, correspondence/      merged, demosaiced camera RGB per pose; reference-to-view maps"
+echo "  svbrdf.exr                 the reconstructed colour SVBRDF map, linear Rec. 709 (docs/svbrdf-map.md)"
 echo "  renders/validation_*.png   the map's render beside each validation capture it never saw"
-echo "  report.txt, report.json    where the time went, validity, validation errors, the score"
+echo "  report.txt, report.json    where the time went, validity, validation errors, the chart fit,"
+echo "                             CIEDE2000 of the validation views, the score against the truth"
 echo "  ground_truth/              the simulated card's labels, names, camera model, error.exr"
 echo "and out/sessions/sim-card-replayed: the same session replayed (same frames, same map)"
