@@ -480,7 +480,8 @@ TEST_CASE("session: a whole simulated session, scored; kill -9 and resume give t
   CHECK(repair.bad.empty());
   CHECK(repair.orphans.empty());
   CHECK(repair.verified == frames);
-  for (const Step step : AllSteps()) CHECK(catalog.StepDone(step));
+  for (const Step step : AllSteps())
+    if (step != Step::kChart) CHECK(catalog.StepDone(step));  // a mono plan captures no chart
   std::size_t files = 0;
   for (const auto& e : fs::directory_iterator(base + "/resumed/session/frames"))
     files += e.is_regular_file();
