@@ -246,6 +246,7 @@ BoardObservation Detect(const cv::Mat& grey, const BoardSpec& board, Detector de
   // small sample) that OpenCV's classic detector finds; its quick form, so that images without
   // the board (a wrong --board) are not searched exhaustively.
   if (!found.found() && detector == Detector::kAuto) return Opencv(grey, board, false);
+  if (!found.found() && detector == Detector::kAutoInView) return Opencv(grey, board, true);
   return found;
 }
 

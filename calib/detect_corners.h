@@ -13,9 +13,12 @@
 
 namespace acq::calib {
 
-enum class Detector { kAuto, kMrgingham, kOpencv };
-// "auto" (mrgingham for square boards, OpenCV for others and where mrgingham finds no board),
-// "mrgingham", "opencv".
+// kAuto: mrgingham for square boards, OpenCV for others and, in its quick form, where mrgingham
+// finds no board (images without the board, a wrong --board, are not searched exhaustively).
+// kAutoInView: the same, but OpenCV's full search where mrgingham finds none: for images known
+// to show the board (a session's board captures), where a miss loses a view.
+enum class Detector { kAuto, kAutoInView, kMrgingham, kOpencv };
+// "auto" (kAuto), "mrgingham", "opencv".
 Detector ParseDetector(const std::string& name, const BoardSpec& board);
 
 // Corners of `board` in an 8- or 16-bit grey image; an empty observation when not found.
