@@ -2,6 +2,7 @@
 
 #include <Eigen/QR>
 #include <cmath>
+#include <cstdio>
 
 #include "brdf/evaluation.h"
 #include "core/colour.h"
