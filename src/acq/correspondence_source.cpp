@@ -1,5 +1,7 @@
 #include "acq/correspondence_source.h"
 
+#include <algorithm>
+
 #include <cmath>
 #include <limits>
 
@@ -21,13 +23,17 @@ float Sample(const ViewImage& im, double x, double y) {
   const std::size_t w = std::size_t(im.width);
   if (const std::uint8_t* u = im.flags(); u && (u[i] || u[i + 1] || u[i + w] || u[i + w + 1]))
     return kNaN;
-  const float* r = im.radiance->data();
+  const float* r = im.pixels();
   return float((1 - fy) * ((1 - fx) * r[i] + fx * r[i + 1]) +
                fy * ((1 - fx) * r[i + w] + fx * r[i + w + 1]));
 }
 
 void CheckImage(const ViewImage& im, const std::string& what) {
-  const std::size_t values = im.radiance ? im.radiance->size() : 0;
+  // From the image's offset on, its buffer must hold its pixels (a shared buffer holds more).
+  const std::size_t values = im.radiance && im.radiance->size() >= im.offset
+                                 ? std::min(im.radiance->size() - im.offset,
+                                            std::size_t(im.width) * std::size_t(im.height))
+                                 : 0;
   if (values != std::size_t(im.width) * std::size_t(im.height))
     throw UserError(what, "image of " + std::to_string(im.width) + "x" + std::to_string(im.height) +
                               " has " + std::to_string(values) + " values");
@@ -43,6 +49,14 @@ ViewImage::ViewImage(int width, int height, std::vector<float> radiance,
       height(height),
       radiance(std::make_shared<const std::vector<float>>(std::move(radiance))),
       unusable(std::make_shared<const std::vector<std::uint8_t>>(std::move(unusable))) {}
+
+ViewImage::ViewImage(int width, int height, std::shared_ptr<const std::vector<float>> planes,
+                     int plane, std::shared_ptr<const std::vector<std::uint8_t>> unusable)
+    : width(width),
+      height(height),
+      radiance(std::move(planes)),
+      offset(std::size_t(plane) * std::size_t(width) * std::size_t(height)),
+      unusable(std::move(unusable)) {}
 
 CorrespondenceSource::CorrespondenceSource(std::vector<SessionView> views, double pixel_size_mm)
     : views_(std::move(views)), pixel_size_mm_(pixel_size_mm) {

@@ -32,14 +32,20 @@ struct ViewImage {
   ViewImage() = default;
   ViewImage(int width, int height, std::vector<float> radiance,
             std::vector<std::uint8_t> unusable = {});
+  // Plane `plane` of a buffer of planes one after the other (a colour image's R, G and B share
+  // one buffer: no copy).
+  ViewImage(int width, int height, std::shared_ptr<const std::vector<float>> planes, int plane,
+            std::shared_ptr<const std::vector<std::uint8_t>> unusable);
   bool empty() const { return !radiance || radiance->empty(); }
+  const float* pixels() const { return radiance->data() + offset; }
   // The flags, or null where every pixel is usable.
   const std::uint8_t* flags() const {
     return unusable && !unusable->empty() ? unusable->data() : nullptr;
   }
 
   int width = 0, height = 0;
-  std::shared_ptr<const std::vector<float>> radiance;
+  std::shared_ptr<const std::vector<float>> radiance;  // this image's pixels from `offset` on
+  std::size_t offset = 0;
   // Non-zero: saturated or dark in every frame; null or empty: every pixel usable.
   std::shared_ptr<const std::vector<std::uint8_t>> unusable;
 };

@@ -42,23 +42,21 @@ std::array<ViewImage, 3> Channels(HdrImage&& hdr,
     throw UserError("camera.colour_matrix",
                     "the session's images are colour, the plan has no colour matrix or chart",
                     "give camera.colour_chart or camera.colour_matrix (docs/colour.md)");
+  // In place: the three planes stay one buffer, shared by the three channels' images.
   const Eigen::Matrix3f m = rec709_from_camera->cast<float>();
   const std::size_t n = std::size_t(hdr.width) * std::size_t(hdr.height);
-  std::array<std::vector<float>, 3> rec709;
-  for (auto& plane : rec709) plane.resize(n);
+  float* rgb = hdr.radiance.data();
 #pragma omp parallel for schedule(static)
   for (std::ptrdiff_t i = 0; i < std::ptrdiff_t(n); ++i) {
-    const Eigen::Vector3f rgb(hdr.radiance[i], hdr.radiance[n + i], hdr.radiance[2 * n + i]);
-    const Eigen::Vector3f out = m * rgb;
-    for (int c = 0; c < 3; ++c) rec709[c][i] = out[c];
+    const Eigen::Vector3f camera(rgb[i], rgb[n + i], rgb[2 * n + i]);
+    const Eigen::Vector3f rec709 = m * camera;
+    for (int c = 0; c < 3; ++c) rgb[c * n + i] = rec709[c];
   }
+  const auto planes = std::make_shared<const std::vector<float>>(std::move(hdr.radiance));
   const auto flags = std::make_shared<const std::vector<std::uint8_t>>(std::move(unusable));
-  std::array<ViewImage, 3> out;
-  for (int c = 0; c < 3; ++c) {
-    out[c] = ViewImage(hdr.width, hdr.height, std::move(rec709[c]));
-    out[c].unusable = flags;  // one set of flags for the three channels
-  }
-  return out;
+  return {ViewImage(hdr.width, hdr.height, planes, 0, flags),
+          ViewImage(hdr.width, hdr.height, planes, 1, flags),
+          ViewImage(hdr.width, hdr.height, planes, 2, flags)};
 }
 
 // The views of `step` (with the Spectralon captures of `spectralon_step` where there are any):
