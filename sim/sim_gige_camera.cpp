@@ -11,6 +11,7 @@
 #include <stdexcept>
 
 #include "calib/synthetic_board.h"
+#include "hw/aravis_camera.h"
 
 namespace acq::sim {
 namespace {
@@ -36,44 +37,16 @@ bool SameView(const SimView& a, const SimView& b) {
          a.light.rgb == b.light.rgb;
 }
 
-// The formats a sensor with this filter offers: GenICam name and PFNC code, 8, 12 and 16 bits.
-struct OfferedFormat {
-  const char* name;
-  ArvPixelFormat code;
-  int max_dn;
-};
-
-std::vector<OfferedFormat> OfferedFormats(Cfa cfa) {
-  switch (cfa) {
-    case Cfa::kNone:
-      return {{"Mono8", ARV_PIXEL_FORMAT_MONO_8, 255},
-              {"Mono12", ARV_PIXEL_FORMAT_MONO_12, 4095},
-              {"Mono16", ARV_PIXEL_FORMAT_MONO_16, 65535}};
-    case Cfa::kRGGB:
-      return {{"BayerRG8", ARV_PIXEL_FORMAT_BAYER_RG_8, 255},
-              {"BayerRG12", ARV_PIXEL_FORMAT_BAYER_RG_12, 4095},
-              {"BayerRG16", ARV_PIXEL_FORMAT_BAYER_RG_16, 65535}};
-    case Cfa::kGRBG:
-      return {{"BayerGR8", ARV_PIXEL_FORMAT_BAYER_GR_8, 255},
-              {"BayerGR12", ARV_PIXEL_FORMAT_BAYER_GR_12, 4095},
-              {"BayerGR16", ARV_PIXEL_FORMAT_BAYER_GR_16, 65535}};
-    case Cfa::kGBRG:
-      return {{"BayerGB8", ARV_PIXEL_FORMAT_BAYER_GB_8, 255},
-              {"BayerGB12", ARV_PIXEL_FORMAT_BAYER_GB_12, 4095},
-              {"BayerGB16", ARV_PIXEL_FORMAT_BAYER_GB_16, 65535}};
-    case Cfa::kBGGR:
-      return {{"BayerBG8", ARV_PIXEL_FORMAT_BAYER_BG_8, 255},
-              {"BayerBG12", ARV_PIXEL_FORMAT_BAYER_BG_12, 4095},
-              {"BayerBG16", ARV_PIXEL_FORMAT_BAYER_BG_16, 65535}};
-  }
-  return {};
+// The formats a sensor with this filter offers: its phase (or mono) at 8, 12 and 16 bits.
+std::vector<PixelFormat> OfferedFormats(Cfa cfa) {
+  return {PixelFormatFor(cfa, 255), PixelFormatFor(cfa, 4095), PixelFormatFor(cfa, 65535)};
 }
 
 // The full scale of a format the camera offers; 65535 for another (a driver that set a format
 // not offered is refused by the GenICam enumeration before it gets here).
-int MaxDn(Cfa cfa, std::uint32_t format) {
-  for (const OfferedFormat& f : OfferedFormats(cfa))
-    if (f.code == format) return f.max_dn;
+int MaxDn(Cfa cfa, std::uint32_t code) {
+  for (PixelFormat f : OfferedFormats(cfa))
+    if (PfncCode(f) == code) return MaxValue(f);
   return 65535;
 }
 
@@ -88,9 +61,9 @@ void ReplacePixelFormatEntries(std::string* xml, Cfa cfa) {
         "Aravis's fake camera XML has no PixelFormat enumeration; this "
         "Aravis is not the 0.8 series the simulator was written for");
   std::string entries = "\n\t\t<DisplayName>Pixel format</DisplayName>";
-  for (const OfferedFormat& f : OfferedFormats(cfa))
-    entries += std::string("\n\t\t<EnumEntry Name=\"") + f.name +
-               "\" NameSpace=\"Standard\">\n\t\t\t<Value>" + std::to_string(f.code) +
+  for (PixelFormat f : OfferedFormats(cfa))
+    entries += std::string("\n\t\t<EnumEntry Name=\"") + PixelFormatName(f) +
+               "\" NameSpace=\"Standard\">\n\t\t\t<Value>" + std::to_string(PfncCode(f)) +
                "</Value>\n\t\t</EnumEntry>";
   const std::size_t from = at + open.size();
   xml->replace(from, end - from, entries + "\n\t\t");

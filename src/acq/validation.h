@@ -20,8 +20,8 @@ struct ValidationResult {
   double relative_rms = 0;     // ||predicted - captured|| / ||captured|| over those pixels
   double median_relative = 0;  // median over those pixels of |predicted - captured| / captured
   // Median over those pixels of CIEDE2000 between pi x predicted and pi x captured as linear
-  // Rec. 709 reflectances (a white Lambertian lit along its normal is 1): 0 for a mono camera's
-  // grey, which it compares in lightness only.
+  // Rec. 709 reflectances (a white Lambertian lit along its normal is 1); a mono camera's grey
+  // differs in lightness only.
   double median_delta_e2000 = 0;
   RgbImage predicted, captured;  // rho cos(theta_i), reference pixels; 0 where not compared
 };

@@ -35,15 +35,7 @@ constexpr std::pair<PixelFormat, ArvPixelFormat> kArvFormats[] = {
 };
 
 ArvPixelFormat ToArv(PixelFormat f) {
-  for (const auto& [ours, arv] : kArvFormats)
-    if (ours == f) return arv;
-  throw std::logic_error("PixelFormat missing from kArvFormats");
-}
-
-std::optional<PixelFormat> FromArv(ArvPixelFormat f) {
-  for (const auto& [ours, arv] : kArvFormats)
-    if (arv == f) return ours;
-  return std::nullopt;
+  return ArvPixelFormat(PfncCode(f));
 }
 
 // Takes the GError's message and frees it.
@@ -71,6 +63,18 @@ const char* StatusName(ArvBufferStatus s) {
 }
 
 }  // namespace
+
+std::uint32_t PfncCode(PixelFormat format) {
+  for (const auto& [ours, arv] : kArvFormats)
+    if (ours == format) return arv;
+  throw std::logic_error("PixelFormat missing from kArvFormats");
+}
+
+std::optional<PixelFormat> FormatOfPfncCode(std::uint32_t code) {
+  for (const auto& [ours, arv] : kArvFormats)
+    if (arv == code) return ours;
+  return std::nullopt;
+}
 
 AravisCamera::AravisCamera(AravisCameraOptions options) : options_(std::move(options)) {
   const std::string why = Open();
@@ -180,7 +184,8 @@ void AravisCamera::Work() {
       f.width = arv_buffer_get_image_width(buffer);
       f.height = arv_buffer_get_image_height(buffer);
       // A format we did not ask for is a short frame below: never read as another's counts.
-      const std::optional<PixelFormat> format = FromArv(arv_buffer_get_image_pixel_format(buffer));
+      const std::optional<PixelFormat> format =
+          FormatOfPfncCode(arv_buffer_get_image_pixel_format(buffer));
       f.pixel_format = format.value_or(PixelFormat::kMono16);
       f.frame_id = arv_buffer_get_frame_id(buffer);
       f.timestamp_ns = arv_buffer_get_timestamp(buffer);

@@ -11,8 +11,10 @@
 #pragma once
 
 #include <condition_variable>
+#include <cstdint>
 #include <deque>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <thread>
 #include <vector>
@@ -23,6 +25,11 @@ typedef struct _ArvCamera ArvCamera;
 typedef struct _ArvStream ArvStream;
 
 namespace acq {
+
+// A format's GenICam PFNC code, the PixelFormat register's value (Aravis's ARV_PIXEL_FORMAT_*),
+// and the format of a code, nullopt for one the driver does not take.
+std::uint32_t PfncCode(PixelFormat format);
+std::optional<PixelFormat> FormatOfPfncCode(std::uint32_t code);
 
 struct AravisCameraOptions {
   std::string id;  // Aravis device id ("Aravis-Fake-ACQSIM01"), serial or IP address

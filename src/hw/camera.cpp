@@ -46,14 +46,9 @@ const char* PixelFormatName(PixelFormat format) {
   return InfoOf(format).name;
 }
 
-std::optional<PixelFormat> FindPixelFormat(const std::string& name) {
+PixelFormat ParsePixelFormat(const std::string& name, const std::string& where) {
   for (const FormatInfo& i : kFormats)
     if (name == i.name) return i.format;
-  return std::nullopt;
-}
-
-PixelFormat ParsePixelFormat(const std::string& name, const std::string& where) {
-  if (const auto f = FindPixelFormat(name)) return *f;
   throw UserError(where, "unknown pixel format '" + name + "'",
                   "use Mono8, Mono12, Mono16, or a Bayer format such as BayerRG8, BayerRG12, "
                   "BayerRG16 (RG, GR, GB or BG: the camera's filter phase)");

@@ -4,7 +4,6 @@
 #pragma once
 
 #include <cstdint>
-#include <optional>
 #include <string>
 #include <vector>
 
@@ -33,8 +32,6 @@ enum class PixelFormat {
 };
 const char* PixelFormatName(PixelFormat format);  // the GenICam name, "Mono16", "BayerRG12"
 PixelFormat ParsePixelFormat(const std::string& name, const std::string& where);  // UserError
-// The format of a name, or nullopt (names a camera offers that the driver does not take).
-std::optional<PixelFormat> FindPixelFormat(const std::string& name);
 int MaxValue(PixelFormat format);  // 255, 4095, 65535
 Cfa CfaOf(PixelFormat format);     // Cfa::kNone for mono
 // The Bayer format of a filter at a depth of `max_value` (255, 4095, 65535); mono for kNone.

@@ -14,6 +14,9 @@ namespace {
 
 namespace fs = std::filesystem;
 
+// A colour pose's planes in its hdr file (camera R, G, B, demosaiced); a mono pose's: "radiance".
+constexpr const char* kColourPlanes[3] = {"R", "G", "B"};
+
 std::string FrameList(const std::vector<CatalogFrame>& frames) {
   std::string list;
   for (const CatalogFrame& f : frames) list += (list.empty() ? "" : " ") + f.path;
@@ -36,7 +39,8 @@ bool ReadUpToDate(const std::string& path, const std::string& dir,
   } catch (const UserError&) {
     return false;  // damaged: merged again
   }
-  const bool colour = file.planes.count("R") && file.planes.count("G") && file.planes.count("B");
+  bool colour = true;
+  for (const char* c : kColourPlanes) colour = colour && file.planes.count(c);
   if (file.attributes["frames"] != FrameList(frames) ||
       !(colour || file.planes.count("radiance")) || !file.planes.count("flag"))
     return false;
@@ -44,7 +48,7 @@ bool ReadUpToDate(const std::string& path, const std::string& dir,
   out->hdr.height = file.height;
   out->hdr.channels = colour ? 3 : 1;
   if (colour) {
-    for (const char* c : {"R", "G", "B"})
+    for (const char* c : kColourPlanes)
       out->hdr.radiance.insert(out->hdr.radiance.end(), file.planes[c].begin(),
                                file.planes[c].end());
   } else {
@@ -92,8 +96,8 @@ PoseHdr MergePose(const std::string& dir, Step step, int pose,
     file.height = p.hdr.height;
     const std::size_t n = std::size_t(p.hdr.width) * std::size_t(p.hdr.height);
     if (p.hdr.channels == 3) {
-      const char* names[3] = {"R", "G", "B"};
-      for (int c = 0; c < 3; ++c) file.planes[names[c]].assign(p.hdr.Plane(c), p.hdr.Plane(c) + n);
+      for (int c = 0; c < 3; ++c)
+        file.planes[kColourPlanes[c]].assign(p.hdr.Plane(c), p.hdr.Plane(c) + n);
       file.attributes["colour"] = "camera RGB, demosaiced (" + std::string(CfaName(bracket_cfa)) +
                                   ", " + DemosaicMethodName(kDefaultDemosaic) + ")";
     } else {
