@@ -506,7 +506,8 @@ SimSpec ReadSim(const YAML::Node& root, const Section& top, const std::string& b
 }
 
 ReconstructionSpec ReadReconstruction(const Section& top, const std::string& base) {
-  const Section recon = top.Child("reconstruction", {"basis", "k", "eta", "lookup", "row_tile"});
+  const Section recon =
+      top.Child("reconstruction", {"basis", "k", "eta", "lookup", "row_tile", "method", "groups"});
   ReconstructionSpec r;
   r.basis_file = Resolve(base, recon.Required("basis"));
   RequireFile(recon, "basis", r.basis_file, "build one with `acq basis build` (README)");
@@ -521,6 +522,13 @@ ReconstructionSpec ReadReconstruction(const Section& top, const std::string& bas
   else
     throw UserError(recon.Where("lookup"), "reconstruction.lookup '" + lookup + "' is not known",
                     "use nearest or interpolated");
+  const std::string method = recon.Text("method", ReconstructionMethodName(r.method));
+  if (const std::optional<ReconstructionMethod> parsed = ParseReconstructionMethod(method))
+    r.method = *parsed;
+  else
+    throw UserError(recon.Where("method"), "reconstruction.method '" + method + "' is not known",
+                    "use independent or pooled");
+  r.groups = int(recon.Integer("groups", r.groups, 0, 1024));
   recon.Checked([&] { r.Check(); });
   return r;
 }

@@ -14,6 +14,7 @@
 #include "acq/move_planner.h"
 #include "brdf/basis_rows.h"
 #include "brdf/directions.h"
+#include "brdf/pooled_model.h"
 #include "hw/camera.h"
 #include "hw/usb_transport.h"
 
@@ -96,6 +97,8 @@ struct ReconstructionSpec {  // reconstruction:
   double eta = kDefaultEta;
   RowLookup lookup = RowLookup::kNearest;
   int row_tile = 1;  // PixelSolveOptions::row_tile
+  ReconstructionMethod method = kDefaultReconstructionMethod;
+  int groups = 0;  // PooledOptions::groups (0: chosen by held-out views)
   void Check() const;
 };
 

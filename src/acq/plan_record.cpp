@@ -180,6 +180,8 @@ std::vector<PlanSetting> PlanSettings(const Plan& plan) {
   s.Processing("reconstruction.eta", Number(plan.reconstruction.eta));
   s.Processing("reconstruction.lookup", RowLookupName(plan.reconstruction.lookup));
   s.Processing("reconstruction.row_tile", std::to_string(plan.reconstruction.row_tile));
+  s.Processing("reconstruction.method", ReconstructionMethodName(plan.reconstruction.method));
+  s.Processing("reconstruction.groups", std::to_string(plan.reconstruction.groups));
   return s.out;
 }
 

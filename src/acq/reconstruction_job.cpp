@@ -3,13 +3,54 @@
 #include <chrono>
 #include <cstdio>
 
+#include "brdf/pooled_solver.h"
 #include "core/error.h"
 #include "core/progress.h"
 
 namespace acq {
+namespace {
+
+// Whether pixel `index` is one of the model's sample: a hash of the index and the seed against
+// the sampled fraction, so the sample is spread over the whole image and does not depend on
+// how the source is cut into bands.
+bool InSample(std::size_t index, double fraction, std::uint64_t seed) {
+  std::uint64_t z = index + seed * 0x9e3779b97f4a7c15ull;  // splitmix64
+  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
+  z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
+  z ^= z >> 31;
+  return double(z >> 11) * 0x1.0p-53 < fraction;
+}
+
+// The first pass of the pooled reconstruction: the sample's observations, band by band.
+PixelObservations ReadSample(ObservationSource& source, const ReconstructionOptions& options) {
+  const int w = source.Width(), h = source.Height();
+  const double fraction = double(options.pooled.sample_pixels) / (double(w) * double(h));
+  PixelObservations sample;
+  Progress progress("reconstruct: sampling rows", std::size_t(h), options.progress);
+  for (int y0 = 0; y0 < h; y0 += options.band_rows) {
+    const int rows = std::min(options.band_rows, h - y0);
+    const PixelObservations obs = source.Rows(y0, rows);
+    sample.views = obs.views;
+    for (int p = 0; p < obs.pixels; ++p) {
+      if (!InSample(std::size_t(y0) * w + p, fraction, options.pooled.seed)) continue;
+      for (int v = 0; v < obs.views; ++v) {
+        const std::size_t i = obs.At(p, v);
+        sample.light.push_back(obs.light[i]);
+        sample.camera.push_back(obs.camera[i]);
+        sample.rgb.insert(sample.rgb.end(), &obs.rgb[3 * i], &obs.rgb[3 * i] + 3);
+      }
+      ++sample.pixels;
+    }
+    progress.Tick(std::size_t(rows));
+  }
+  return sample;
+}
+
+}  // namespace
 
 void ReconstructionOptions::Check(const BasisView& basis) const {
   solve.Check(basis);
+  pooled.Check();
   if (band_rows < 1) throw UserError("--band-rows", "must be at least 1");
   // Tiles that share rows never cross a band: keep whole tiles in a band, so the result does
   // not depend on how the image is streamed.
@@ -26,6 +67,11 @@ void ReconstructionReport::Print() const {
       "  not valid: %ld with no usable observation, %ld with too few observations, %ld "
       "poorly conditioned\n",
       no_observation, too_few_observations, poorly_conditioned);
+  if (method == ReconstructionMethod::kPooled) {
+    std::printf("%s", model.Summary().c_str());
+    std::printf("pooled: %ld pixels with their group's prior, %ld alone; model %.2f s\n", pooled,
+                pixels - pooled, model_seconds);
+  }
   std::printf("time: %.3f s solving, %.2f s in all: %.3f megapixels/s\n", solve_seconds,
               total_seconds, total_seconds > 0 ? double(pixels) / total_seconds / 1e6 : 0.0);
 }
@@ -36,7 +82,18 @@ ReconstructionReport Reconstruct(const BasisView& basis, ObservationSource& sour
   using Clock = std::chrono::steady_clock;
   const auto start = Clock::now();
   options.Check(basis);
-  const int w = source.Width(), h = source.Height(), k = options.solve.components;
+  const int w = source.Width(), h = source.Height();
+  ReconstructionReport report;
+  report.method = options.method;
+  if (options.method == ReconstructionMethod::kPooled) {
+    report.model =
+        FitPooledModel(basis, ReadSample(source, options), options.solve, options.pooled);
+    report.model_seconds = std::chrono::duration<double>(Clock::now() - start).count();
+    info.model = report.model.Summary();
+  }
+  const bool pooled = options.method == ReconstructionMethod::kPooled;
+  const int k = pooled ? report.model.components : options.solve.components;
+  info.method = ReconstructionMethodName(options.method);
   info.width = w;
   info.height = h;
   info.components = k;
@@ -45,9 +102,8 @@ ReconstructionReport Reconstruct(const BasisView& basis, ObservationSource& sour
   info.pixel_size_mm = source.PixelSizeMm();
   info.source = source.Describe();
   SvbrdfMapWriter writer(map_path, info);
-  const int planes = 3 * k + 4;
+  const int planes = int(SvbrdfChannelNames(k).size());
   std::vector<std::vector<float>> band(planes);
-  ReconstructionReport report;
   Progress progress("reconstruct: rows", std::size_t(h), options.progress);
   for (int y0 = 0; y0 < h; y0 += options.band_rows) {
     const int rows = std::min(options.band_rows, h - y0);
@@ -55,7 +111,10 @@ ReconstructionReport Reconstruct(const BasisView& basis, ObservationSource& sour
     PixelSolution solution;
     solution.Resize(obs.pixels, k);
     const auto solve_start = Clock::now();
-    SolvePixels(basis, obs, options.solve, &solution);
+    if (pooled)
+      SolvePixelsPooled(basis, obs, report.model, options.solve, &solution);
+    else
+      SolvePixels(basis, obs, options.solve, &solution);
     report.solve_seconds += std::chrono::duration<double>(Clock::now() - solve_start).count();
     // Pixel-major solution -> one plane per channel for the map.
     const std::size_t n = std::size_t(obs.pixels);
@@ -66,6 +125,9 @@ ReconstructionReport Reconstruct(const BasisView& basis, ObservationSource& sour
       band[3 * k + 1][p] = solution.observations[p];
       band[3 * k + 2][p] = solution.condition[p];
       band[3 * k + 3][p] = solution.residual[p];
+      band[3 * k + 4][p] = solution.group[p];
+      band[3 * k + 5][p] = solution.departure[p];
+      report.pooled += solution.group[p] >= 0;
       ++report.pixels;
       if (solution.valid[p]) {
         ++report.valid;

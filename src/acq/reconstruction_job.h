@@ -6,13 +6,16 @@
 #include <string>
 
 #include "brdf/pixel_solver.h"
+#include "brdf/pooled_model.h"
 #include "io/svbrdf_map.h"
 
 namespace acq {
 
 struct ReconstructionOptions {
+  ReconstructionMethod method = kDefaultReconstructionMethod;
   PixelSolveOptions solve;
-  int band_rows = 64;  // rows solved and written at a time
+  PooledOptions pooled;  // with method kPooled
+  int band_rows = 64;    // rows solved and written at a time
   bool progress = true;
   void Check(const BasisView& basis) const;
 };
@@ -22,10 +25,16 @@ struct ReconstructionReport {
   long no_observation = 0;        // no usable view at all
   long too_few_observations = 0;  // fewer than PixelSolveOptions::MinObservations()
   long poorly_conditioned = 0;    // enough views, condition number over the limit
+  ReconstructionMethod method = ReconstructionMethod::kIndependent;
+  PooledModel model;         // kPooled: the groups and model sizes chosen
+  long pooled = 0;           // kPooled: pixels solved with their group's prior (the rest alone)
+  double model_seconds = 0;  // kPooled: reading the sample and fitting the model
   double solve_seconds = 0, total_seconds = 0;
   void Print() const;
 };
 
+// With method kPooled the source is read twice: once for a sample of pixels the model is fitted
+// on, once for the solve (memory stays bounded by a band and the sample).
 // `map_info` supplies the descriptive fields (basis path and checksum, camera model); the
 // dimensions, settings and pixel size are filled in from the source and options.
 ReconstructionReport Reconstruct(const BasisView& basis, ObservationSource& source,

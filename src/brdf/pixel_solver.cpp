@@ -7,6 +7,7 @@
 
 #include "brdf/log_mapping.h"
 #include "brdf/pixel_batch.h"
+#include "brdf/pixel_rows.h"
 #include "core/error.h"
 
 namespace acq {
@@ -26,6 +27,8 @@ void PixelSolution::Resize(int pixels, int k) {
   observations.assign(pixels, 0);
   condition.assign(pixels, 0.0f);
   residual.assign(pixels, 0.0f);
+  group.assign(pixels, -1);
+  departure.assign(pixels, 0.0f);
 }
 
 void PixelSolveOptions::Check(const BasisView& basis) const {
@@ -35,33 +38,6 @@ void PixelSolveOptions::Check(const BasisView& basis) const {
   if (min_observations < 0) throw UserError("--min-observations", "must be >= 0");
   if (row_tile < 1 || row_tile > 1024) throw UserError("--row-tile", "must be in [1, 1024]");
 }
-
-namespace {
-
-using RowMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
-
-// The basis at one pixel's directions in every view.
-struct ViewRows {
-  std::vector<std::uint8_t> ok;
-  std::vector<BasisSample> samples;
-  RowMatrix rows;
-  std::vector<float> row;  // one view's, before widening (kept: a pixel allocates nothing)
-  void Sample(const BasisView& basis, const PixelObservations& obs, int pixel, int k,
-              RowLookup lookup) {
-    ok.assign(obs.views, 0);
-    samples.resize(obs.views);
-    rows.resize(obs.views, k);
-    row.resize(k);
-    for (int v = 0; v < obs.views; ++v) {
-      const std::size_t i = obs.At(pixel, v);
-      ok[v] = SampleBasis(basis, obs.light[i].cast<double>(), obs.camera[i].cast<double>(), k,
-                          lookup, row.data(), &samples[v]);
-      for (int c = 0; c < k; ++c) rows(v, c) = row[c];
-    }
-  }
-};
-
-}  // namespace
 
 // Extreme eigenvalues of a symmetric positive definite matrix by power iteration and inverse
 // iteration, measured by their Rayleigh quotients. A Rayleigh quotient's error is second order in
@@ -115,44 +91,6 @@ double EstimateConditionNumber(const Eigen::MatrixXd& normal) {
   return ConditionEstimator().Estimate(normal, llt);
 }
 
-namespace {
-
-// Factorisation of one set of sampled rows, reused while the set of views stays the same.
-// Buffers live as long as the worker thread, so a pixel allocates nothing.
-struct Factor {
-  std::vector<std::uint8_t> views;  // which views the rows came from
-  Eigen::LLT<Eigen::MatrixXd> llt, plain;
-  Eigen::MatrixXd normal, gram;
-  ConditionEstimator estimator;  // warm from the worker's previous pixel
-  double condition = 0;
-  void Compute(const Eigen::Ref<const RowMatrix>& q, int k, double eta) {
-    const int n = int(q.rows());
-    normal.setZero(k, k);
-    normal.selfadjointView<Eigen::Lower>().rankUpdate(q.transpose());
-    // The condition number of the rows, sigma_max / sigma_min of the n x k matrix Q: from the
-    // extreme eigenvalues of Q^T Q (k x k) or, with fewer rows than unknowns, of Q Q^T (n x n),
-    // which has the same non-zero eigenvalues. With n < k the ridge settles the directions no
-    // observation constrains (towards the mean BRDF) and this number says how much the fit to
-    // the observations there are amplifies their noise. Infinite when the rows are dependent.
-    // The solve is a Cholesky factorisation of the ridge-regularised normal matrix.
-    const Eigen::MatrixXd* square = &normal;
-    if (n < k) {
-      gram.setZero(n, n);
-      gram.selfadjointView<Eigen::Lower>().rankUpdate(q);
-      square = &gram;
-    }
-    plain.compute(*square);
-    condition = plain.info() != Eigen::Success ? std::numeric_limits<double>::infinity()
-                                               : estimator.Estimate(*square, plain);
-    if (!std::isfinite(condition) || condition <= 0)
-      condition = std::numeric_limits<double>::infinity();
-    normal.diagonal().array() += eta;
-    llt.compute(normal);
-  }
-};
-
-}  // namespace
-
 // Work units handed to a thread at a time (OpenMP's dynamic chunks start at multiples of it).
 constexpr int kChunk = 16;
 
@@ -163,7 +101,7 @@ namespace {
 struct OnePixel {
   ViewRows rows;
   Factor factor;
-  RowMatrix q;
+  PixelRowMatrix q;
   Eigen::MatrixXd y, rhs, c, fit;
   std::vector<std::uint8_t> used;
 

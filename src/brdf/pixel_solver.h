@@ -101,6 +101,10 @@ struct PixelSolution {
   std::vector<std::uint16_t> observations;  // views used
   std::vector<float> condition;  // of the pixel's sampled rows, n x k (inf when dependent)
   std::vector<float> residual;   // RMS log-space misfit at the observations
+  // The pooled solve's (pooled_solver.h): the pixel's group, -1 when it was solved alone, and
+  // the RMS log-space distance of its BRDF from its (or the nearest) group's centre.
+  std::vector<std::int16_t> group;
+  std::vector<float> departure;
 
   void Resize(int pixels, int k);
 };

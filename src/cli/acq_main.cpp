@@ -77,9 +77,12 @@ const std::map<std::string, Command>& Commands() {
         "    [--ignore-near-field] [--truth-tables] [--score] [--row-tile 1] [--dump DIR]\n"
         "    [--kernel lanes|lanes-single|one-pixel] [--max-condition C] [--min-observations N]\n"
         "    [--sample-size-mm S] [--quiet]\n"
+        "    [--method pooled|independent] [--groups 0] [--max-groups 64] [--sample-pixels 8192]\n"
         "  Reconstructs a synthetic printed card from observations made straight from the\n"
         "  ground truth, per pixel, into an SVBRDF map (docs/svbrdf-map.md); --score compares\n"
-        "  every pixel with its true material."}},
+        "  every pixel with its true material. --method pooled groups the pixels by material\n"
+        "  and solves each with a prior towards its group's centre (docs/reconstruction.md);\n"
+        "  --groups forces the number of groups (0: chosen by held-out views)."}},
       {"render quicklook",
        {RenderQuicklook,
         "acq render quicklook --map MAP.exr -o DIR [--basis BASIS]\n"

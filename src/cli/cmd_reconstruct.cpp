@@ -1,5 +1,6 @@
 #include <cstdio>
 #include <filesystem>
+#include <map>
 
 #include "acq/map_score.h"
 #include "acq/reconstruction_job.h"
@@ -31,6 +32,13 @@ PixelKernel KernelFrom(const Args& args) {
   throw UserError("--kernel", "must be 'lanes', 'lanes-single' or 'one-pixel', got '" + k + "'");
 }
 
+ReconstructionMethod MethodFrom(const Args& args) {
+  const std::string m = args.Get("method", ReconstructionMethodName(kDefaultReconstructionMethod));
+  if (const std::optional<ReconstructionMethod> method = ParseReconstructionMethod(m))
+    return *method;
+  throw UserError("--method", "must be 'independent' or 'pooled', got '" + m + "'");
+}
+
 void ParseSize(const std::string& s, int* w, int* h) {
   char rest = 0;
   if (std::sscanf(s.c_str(), "%dx%d%c", w, h, &rest) != 2 || *w < 1 || *h < 1 || *w > 16384 ||
@@ -46,11 +54,27 @@ void ParseSize(const std::string& s, int* w, int* h) {
 }  // namespace
 
 int ReconstructSynthetic(const Argv& argv) {
-  std::set<std::string> valued = {
-      "basis",    "directions", "materials",        "materials-dir", "size",
-      "k",        "eta",        "lookup",           "band-rows",     "noise",
-      "seed",     "o",          "min-observations", "max-condition", "dump",
-      "row-tile", "kernel"};
+  std::set<std::string> valued = {"basis",
+                                  "directions",
+                                  "materials",
+                                  "materials-dir",
+                                  "size",
+                                  "k",
+                                  "eta",
+                                  "lookup",
+                                  "band-rows",
+                                  "noise",
+                                  "seed",
+                                  "o",
+                                  "min-observations",
+                                  "max-condition",
+                                  "dump",
+                                  "row-tile",
+                                  "kernel",
+                                  "method",
+                                  "groups",
+                                  "max-groups",
+                                  "sample-pixels"};
   valued.insert(kGeometryOptions.begin(), kGeometryOptions.end());
   const Args args("acq reconstruct synthetic", argv, valued,
                   {"ignore-near-field", "truth-tables", "score", "quiet"});
@@ -105,6 +129,11 @@ int ReconstructSynthetic(const Argv& argv) {
   r.band_rows = args.GetInt("band-rows", r.band_rows, 1, 1 << 20);
   r.solve.row_tile = args.GetInt("row-tile", r.solve.row_tile, 1, 4096);
   r.solve.kernel = KernelFrom(args);
+  r.method = MethodFrom(args);
+  r.pooled.groups = args.GetInt("groups", 0, 0, 1024);
+  r.pooled.max_groups = args.GetInt("max-groups", r.pooled.max_groups, 1, 1024);
+  r.pooled.sample_pixels = args.GetInt("sample-pixels", r.pooled.sample_pixels, 64, 1 << 20);
+  r.pooled.seed = o.seed;
   r.progress = !args.Has("quiet");
   SvbrdfMapInfo info;
   info.basis = basis_path;
@@ -157,9 +186,18 @@ int ReconstructSynthetic(const Argv& argv) {
         "score: median per-pixel log-space RMSE against the ground truth: %.4f (%ld pixels x 3 "
         "channels; %.4f over the %ld valid)\n",
         score.median_log_rmse, score.pixels, score.median_log_rmse_valid, score.valid);
-    for (std::size_t m = 0; m < names.size(); ++m)
-      std::printf("score: material %s median per-pixel log-space RMSE %.4f\n", names[m].c_str(),
-                  score.material_median_log_rmse[m]);
+    for (std::size_t m = 0; m < names.size(); ++m) {
+      // Which groups the material's pixels went to (the pooled reconstruction's diagnostics).
+      std::map<int, long> groups;
+      for (std::size_t p = 0; p < labels.size(); ++p)
+        if (labels[p] == int(m)) ++groups[int(map.planes[map.planes.size() - 2][p])];
+      std::string in;
+      for (const auto& [g, n] : groups)
+        in += " " + (g < 0 ? std::string("alone") : "g" + std::to_string(g)) + ":" +
+              std::to_string(n);
+      std::printf("score: material %s median per-pixel log-space RMSE %.4f;%s\n", names[m].c_str(),
+                  score.material_median_log_rmse[m], in.c_str());
+    }
   }
   return 0;
 }

@@ -11,8 +11,11 @@
 #include <ImfStandardAttributes.h>
 #include <ImfStringAttribute.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <limits>
 
 #include "core/error.h"
 #include "io/exr_settings.h"
@@ -21,7 +24,14 @@ namespace acq {
 namespace {
 
 constexpr const char* kFormat = "acq-svbrdf-map 1";
-const std::vector<std::string> kDiagnostics = {"valid", "observations", "condition", "residual"};
+const std::vector<std::string> kDiagnostics = {"valid",    "observations", "condition",
+                                               "residual", "group",        "departure"};
+// Diagnostics a map may lack (written before they existed), with the value they read as.
+float OptionalDiagnostic(const std::string& name) {
+  if (name == "group") return -1.0f;
+  if (name == "departure") return 0.0f;
+  return std::numeric_limits<float>::quiet_NaN();
+}
 
 std::string Hex(std::uint32_t v) {
   char s[16];
@@ -74,6 +84,8 @@ SvbrdfMapWriter::SvbrdfMapWriter(const std::string& path, const SvbrdfMapInfo& i
   header.insert("acqCameraModel", Imf::StringAttribute(info.camera_model));
   header.insert("acqPixelSizeMm", Imf::DoubleAttribute(info.pixel_size_mm));
   header.insert("acqSource", Imf::StringAttribute(info.source));
+  header.insert("acqMethod", Imf::StringAttribute(info.method));
+  if (!info.model.empty()) header.insert("acqModel", Imf::StringAttribute(info.model));
   try {
     impl_->file = std::make_unique<Imf::OutputFile>(impl_->partial.c_str(), header);
   } catch (const std::exception& e) {
@@ -157,13 +169,22 @@ SvbrdfMap ReadSvbrdfMap(const std::string& path) {
     map.info.camera_model = h.typedAttribute<Imf::StringAttribute>("acqCameraModel").value();
     map.info.pixel_size_mm = h.typedAttribute<Imf::DoubleAttribute>("acqPixelSizeMm").value();
     map.info.source = h.typedAttribute<Imf::StringAttribute>("acqSource").value();
+    if (const auto* m = h.findTypedAttribute<Imf::StringAttribute>("acqMethod"))
+      map.info.method = m->value();
+    if (const auto* m = h.findTypedAttribute<Imf::StringAttribute>("acqModel"))
+      map.info.model = m->value();
     const std::vector<std::string> names = SvbrdfChannelNames(map.info.components);
     const std::size_t n = std::size_t(map.info.width) * map.info.height;
     map.planes.assign(names.size(), std::vector<float>(n));
     Imf::FrameBuffer fb;
     for (std::size_t c = 0; c < names.size(); ++c) {
-      if (!h.channels().findChannel(names[c]))
-        throw UserError(path, "channel " + names[c] + " is missing", "the map is damaged");
+      if (!h.channels().findChannel(names[c])) {
+        const float fill = OptionalDiagnostic(names[c]);
+        if (std::isnan(fill))
+          throw UserError(path, "channel " + names[c] + " is missing", "the map is damaged");
+        std::fill(map.planes[c].begin(), map.planes[c].end(), fill);
+        continue;
+      }
       char* base = reinterpret_cast<char*>(map.planes[c].data()) -
                    (std::ptrdiff_t(dw.min.x) + std::ptrdiff_t(dw.min.y) * map.info.width) *
                        std::ptrdiff_t(sizeof(float));

@@ -2,7 +2,9 @@
 // (docs/svbrdf-map.md). Channels, all 32-bit float: "R.c00".."R.cNN", "G.c..", "B.c.." (the k
 // basis coefficients per colour channel), "valid" (1 trustworthy, 0 not), "observations" (views
 // used), "condition" (of the pixel's sampled rows; inf when fewer views than components),
-// "residual" (RMS log-space misfit at the observations). Header attributes name the basis and its
+// "residual" (RMS log-space misfit at the observations), "group" (the pooled reconstruction's
+// material group of the pixel, -1 when solved alone), "departure" (RMS log-space distance of the
+// pixel's BRDF from its group's centre). Header attributes name the basis and its
 // checksum, the solve settings, the reference camera model and the pixel size on the sample.
 //
 // Written band by band in increasing y, so a 16-megapixel map never has to be in memory whole;
@@ -18,17 +20,20 @@ namespace acq {
 
 struct SvbrdfMapInfo {
   int width = 0, height = 0;
-  int components = 0;             // k
-  double eta = 0;                 // ridge strength used
-  std::string lookup;             // "nearest" or "interpolated"
-  std::string basis;              // path of the basis file
-  std::uint32_t basis_crc32 = 0;  // its checksum (docs/basis-format.md)
-  std::string camera_model;       // reference camera's .cameramodel, or "none (synthetic)"
-  double pixel_size_mm = 0;       // on the sample
-  std::string source;             // what the observations came from
+  int components = 0;                  // k
+  double eta = 0;                      // ridge strength used
+  std::string lookup;                  // "nearest" or "interpolated"
+  std::string basis;                   // path of the basis file
+  std::uint32_t basis_crc32 = 0;       // its checksum (docs/basis-format.md)
+  std::string camera_model;            // reference camera's .cameramodel, or "none (synthetic)"
+  double pixel_size_mm = 0;            // on the sample
+  std::string source;                  // what the observations came from
+  std::string method = "independent";  // ReconstructionMethodName
+  std::string model;                   // the pooled model's summary (PooledModel::Summary)
 };
 
-// Channel names in file order: 3 k coefficient channels, then the four per-pixel diagnostics.
+// Channel names in file order: 3 k coefficient channels, then the six per-pixel diagnostics.
+// Maps written before "group" and "departure" existed read with -1 and 0 there.
 std::vector<std::string> SvbrdfChannelNames(int components);
 
 class SvbrdfMapWriter {

@@ -161,6 +161,8 @@ ReconstructionReport ReconstructMap(const Plan& plan, const MappedBasis& mapped,
   options.solve.eta = plan.reconstruction.eta;
   options.solve.lookup = plan.reconstruction.lookup;
   options.solve.row_tile = plan.reconstruction.row_tile;
+  options.method = plan.reconstruction.method;
+  options.pooled.groups = plan.reconstruction.groups;
   options.progress = false;
   SvbrdfMapInfo info;
   info.basis = plan.reconstruction.basis_file;

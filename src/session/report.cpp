@@ -71,7 +71,25 @@ std::string SessionReport::Json() const {
               {"valid", r.valid},
               {"no_observation", r.no_observation},
               {"too_few_observations", r.too_few_observations},
-              {"poorly_conditioned", r.poorly_conditioned}};
+              {"poorly_conditioned", r.poorly_conditioned},
+              {"method", ReconstructionMethodName(r.method)}};
+  if (r.method == ReconstructionMethod::kPooled) {
+    Json groups = Json::array(), tried = Json::array();
+    for (const PooledGroup& g : r.model.groups)
+      groups.push_back({{"sample_pixels", g.sample_pixels},
+                        {"centre_components", g.centre_components},
+                        {"strength", g.strength},
+                        {"held_out_rms", g.held_out_rms}});
+    for (const PooledModel::Trial& t : r.model.selection)
+      tried.push_back({{"groups", t.groups}, {"held_out_rms", t.held_out_rms}});
+    j["map"]["pooled"] = {{"groups", groups},
+                          {"groups_tried", tried},
+                          {"held_out_rms", r.model.held_out_rms},
+                          {"independent_held_out_rms", r.model.independent_held_out_rms},
+                          {"sample_pixels", r.model.sample_pixels},
+                          {"pixels_with_prior", r.pooled},
+                          {"model_s", r.model_seconds}};
+  }
   const SessionCalibration& c = p.calibration;
   int found = 0;
   for (const BoardPoseResult& b : c.boards) found += b.found;
@@ -201,6 +219,12 @@ std::string ResultText(const ProcessReport& p) {
                 r.pixels ? 100.0 * double(r.valid) / double(r.pixels) : 0.0, r.no_observation,
                 r.too_few_observations, r.poorly_conditioned);
   t << line;
+  if (r.method == ReconstructionMethod::kPooled) {
+    t << r.model.Summary();
+    std::snprintf(line, sizeof line, "pooled: %ld pixels with their group's prior, %ld alone\n",
+                  r.pooled, r.pixels - r.pooled);
+    t << line;
+  }
   const SessionCalibration& c = p.calibration;
   int found = 0;
   for (const BoardPoseResult& b : c.boards) found += b.found;

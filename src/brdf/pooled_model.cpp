@@ -1,0 +1,545 @@
+#include "brdf/pooled_model.h"
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <random>
+#include <sstream>
+
+#include "brdf/log_mapping.h"
+#include "brdf/pixel_rows.h"
+#include "core/error.h"
+#include "core/merl_grid.h"
+
+namespace acq {
+
+const char* ReconstructionMethodName(ReconstructionMethod method) {
+  return method == ReconstructionMethod::kPooled ? "pooled" : "independent";
+}
+
+std::optional<ReconstructionMethod> ParseReconstructionMethod(const std::string& name) {
+  if (name == "independent") return ReconstructionMethod::kIndependent;
+  if (name == "pooled") return ReconstructionMethod::kPooled;
+  return std::nullopt;
+}
+
+void PooledOptions::Check() const {
+  if (groups < 0 || groups > 1024) throw UserError("--groups", "must be in [0, 1024] (0: chosen)");
+  if (max_groups < 1 || max_groups > 1024) throw UserError("--max-groups", "must be in [1, 1024]");
+  if (sample_pixels < 64 || sample_pixels > (1 << 20))
+    throw UserError("--sample-pixels", "must be in [64, 1048576]");
+  if (max_centre_components < 0)
+    throw UserError("--max-centre-components", "must be >= 0 (0: all the basis stores)");
+}
+
+void PooledModel::Feature(const float* c, int k, double* feature) const {
+  for (int ch = 0; ch < 3; ++ch)
+    for (int i = 0; i < features; ++i)
+      feature[ch * features + i] = i < k ? weight[i] * c[ch * k + i] : 0.0;
+}
+
+double PooledModel::Distance(const float* a, int ka, const float* b, int kb) const {
+  double sum = 0;
+  const int n = std::max(ka, kb);
+  for (int ch = 0; ch < 3; ++ch)
+    for (int i = 0; i < n && i < int(weight.size()); ++i) {
+      const double d = (i < ka ? a[ch * ka + i] : 0.0) - (i < kb ? b[ch * kb + i] : 0.0);
+      sum += weight[i] * weight[i] * d * d;
+    }
+  return std::sqrt(sum / 3);
+}
+
+std::string PooledModel::Summary() const {
+  std::ostringstream s;
+  s.precision(4);
+  s << "pooled model: " << groups.size() << " groups from " << sample_pixels
+    << " sample pixels; leave-one-view-out RMS " << held_out_rms << " (independent "
+    << independent_held_out_rms << ")\n  groups tried (held-out RMS):";
+  for (const Trial& t : selection) s << " " << t.groups << ":" << t.held_out_rms;
+  s << "\n";
+  for (std::size_t g = 0; g < groups.size(); ++g)
+    s << "  group " << g << ": " << groups[g].sample_pixels << " sample pixels, k_c "
+      << groups[g].centre_components << ", misfit limit " << groups[g].misfit_limit << ", strength "
+      << groups[g].strength << ", held-out RMS " << groups[g].held_out_rms << "\n";
+  return s.str();
+}
+
+namespace {
+
+// A larger model (more groups, more centre components) is taken only when it lowers the
+// held-out error by more than this fraction: model no more than the data can tell apart.
+constexpr double kSizeTolerance = 0.01;
+// For the number of groups a smaller margin: the merging of overlapping groups (below) guards
+// against splitting a material, and a material covering a few percent of the sample moves the
+// sample's total error by little more than this when it gets its own group.
+constexpr double kGroupTolerance = 0.001;
+constexpr int kMinUsableSample = 16;
+constexpr int kFeatureComponents = 10;  // per channel: the components that carry most energy
+
+// One sample pixel, prepared once: its used rows with every centre component, its mapped
+// observations, and the eigendecomposition of its k-column normal matrix, which turns every
+// ridge solve and leave-one-out error for any strength into a few vector operations.
+struct SamplePixel {
+  Eigen::MatrixXf rows;   // n x K
+  Eigen::MatrixXd y;      // n x 3, mapped, less the mean
+  Eigen::VectorXd eigen;  // k eigenvalues of Q_k^T Q_k
+  Eigen::MatrixXd z;      // n x k: Q_k in the eigenvectors' frame
+  Eigen::MatrixXd vectors;
+  std::vector<int> view;  // the view of each row
+  std::vector<double> feature;
+  double independent_sq = 0;  // leave-one-view-out squared error of the independent solve
+};
+
+// The strengths tried: the independent solve's eta times powers of 4, and the centre itself.
+// Never below eta: a ridge towards a centre fitted from the same views counts the pixel's data
+// twice, and the held-out views, which reward interpolating between the views more than the
+// grid's extrapolation away from them, preferred that; the map got worse (black fabric on the
+// card at 0 degrees: 0.169 with strengths down to eta / 16, 0.144 alone).
+std::vector<double> StrengthGrid(double eta) {
+  const double base = eta > 0 ? eta : kDefaultEta;
+  std::vector<double> grid;
+  for (int j = 0; j <= 7; ++j) grid.push_back(base * std::pow(4.0, j));
+  grid.push_back(std::numeric_limits<double>::infinity());
+  return grid;
+}
+
+// The independent solve's exact leave-one-view-out squared error (summed over views and
+// channels) at strength eta: e_v = r_v / (1 - h_v).
+double IndependentLeaveOneOut(const SamplePixel& p, double eta) {
+  const Eigen::VectorXd inv = (p.eigen.array() + eta).inverse();
+  const Eigen::MatrixXd r =
+      p.y - p.z * ((p.z.transpose() * p.y).array().colwise() * inv.array()).matrix();
+  const Eigen::VectorXd h = p.z.array().square().matrix() * inv;
+  return (r.array().colwise() / (1.0 - h.array())).square().sum();
+}
+
+// The pooled solve's leave-one-view-out squared errors at each strength, the view left out of
+// the centre too (`centres[v]`: the group's centre fitted without view v, K x 3, first kc used),
+// so that a centre cannot vouch for a view it saw. The ridge is linear in its target y - Q c, so
+// the left-out residual is still exact from the full fit: with P = (I - H) Q and r0 = (I - H) y,
+//   e_v = (r0_v - P_v c_-v) / (1 - h_v).
+void PooledLeaveOneOut(const SamplePixel& p, const std::vector<Eigen::MatrixXd>& centres, int kc,
+                       const std::vector<double>& strengths, double* out) {
+  const int n = int(p.view.size());
+  const Eigen::MatrixXd q = p.rows.leftCols(kc).cast<double>();
+  Eigen::MatrixXd qc(n, 3);  // row v: q_v . c_-v per channel
+  for (int r = 0; r < n; ++r) qc.row(r) = q.row(r) * centres[p.view[r]].topRows(kc);
+  const Eigen::MatrixXd zty = p.z.transpose() * p.y, ztq = p.z.transpose() * q;
+  const Eigen::MatrixXd z2 = p.z.array().square();
+  for (std::size_t s = 0; s < strengths.size(); ++s) {
+    if (std::isinf(strengths[s])) {  // the pixel is its centre
+      out[s] = (p.y - qc).squaredNorm();
+      continue;
+    }
+    const Eigen::VectorXd inv = (p.eigen.array() + strengths[s]).inverse();
+    const Eigen::MatrixXd r0 = p.y - p.z * (zty.array().colwise() * inv.array()).matrix();
+    const Eigen::MatrixXd pq = q - p.z * (ztq.array().colwise() * inv.array()).matrix();
+    const Eigen::VectorXd h = z2 * inv;
+    double sum = 0;
+    for (int r = 0; r < n; ++r) {
+      const Eigen::RowVector3d e = r0.row(r) - pq.row(r) * centres[p.view[r]].topRows(kc);
+      sum += e.squaredNorm() / ((1.0 - h(r)) * (1.0 - h(r)));
+    }
+    out[s] = sum;
+  }
+}
+
+std::vector<SamplePixel> PrepareSample(const BasisView& basis, const PixelObservations& obs,
+                                       const PixelSolveOptions& solve, int K,
+                                       const PooledModel& model) {
+  const int k = solve.components;
+  std::vector<SamplePixel> out(obs.pixels);
+  std::vector<std::uint8_t> usable(obs.pixels, 0);
+  const double eta = std::max(solve.eta, 1e-9);
+#pragma omp parallel
+  {
+    ViewRows rows;
+#pragma omp for schedule(dynamic, 16)
+    for (int i = 0; i < obs.pixels; ++i) {
+      rows.Sample(basis, obs, i, K, solve.lookup);
+      SamplePixel& p = out[i];
+      for (int v = 0; v < obs.views; ++v) {
+        const float* rgb = &obs.rgb[3 * obs.At(i, v)];
+        if (rows.ok[v] && std::isfinite(rgb[0]) && std::isfinite(rgb[1]) && std::isfinite(rgb[2]))
+          p.view.push_back(v);
+      }
+      const int n = int(p.view.size());
+      if (n < solve.MinObservations()) continue;
+      p.rows.resize(n, K);
+      p.y.resize(n, 3);
+      for (int r = 0; r < n; ++r) {
+        const int v = p.view[r];
+        p.rows.row(r) = rows.rows.row(v).cast<float>();
+        const BasisSample& s = rows.samples[v];
+        const float* rgb = &obs.rgb[3 * obs.At(i, v)];
+        for (int ch = 0; ch < 3; ++ch) p.y(r, ch) = MapBrdf(rgb[ch], s.cos_weight, s.ref) - s.mean;
+      }
+      const Eigen::MatrixXd qk = p.rows.leftCols(k).cast<double>();
+      Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(qk.transpose() * qk);
+      p.eigen = es.eigenvalues().cwiseMax(0.0);
+      p.vectors = es.eigenvectors();
+      p.z = qk * p.vectors;
+      p.independent_sq = IndependentLeaveOneOut(p, eta);
+      const Eigen::MatrixXd a = (p.z.transpose() * p.y).array().colwise() / (p.eigen.array() + eta);
+      const Eigen::MatrixXd c = p.vectors * a;  // k x 3
+      std::vector<float> coefficients(3 * k);
+      for (int ch = 0; ch < 3; ++ch)
+        for (int j = 0; j < k; ++j) coefficients[ch * k + j] = float(c(j, ch));
+      p.feature.resize(3 * model.features);
+      model.Feature(coefficients.data(), k, p.feature.data());
+      usable[i] = std::isfinite(p.independent_sq) && c.allFinite();
+    }
+  }
+  std::vector<SamplePixel> kept;
+  for (int i = 0; i < obs.pixels; ++i)
+    if (usable[i]) kept.push_back(std::move(out[i]));
+  return kept;
+}
+
+double SquaredDistance(const std::vector<double>& a, const std::vector<double>& b) {
+  double s = 0;
+  for (std::size_t i = 0; i < a.size(); ++i) s += (a[i] - b[i]) * (a[i] - b[i]);
+  return s;
+}
+
+// k-means++ seeding, then Lloyd's iterations until no pixel changes group (at most 50); an
+// emptied group is re-seeded at the pixel farthest from its centroid. Deterministic for a seed.
+std::vector<int> KMeans(const std::vector<SamplePixel>& pixels, int groups, std::uint64_t seed,
+                        std::vector<std::vector<double>>* centroids) {
+  const int n = int(pixels.size());
+  std::mt19937_64 rng(seed);
+  centroids->assign(1, pixels[std::uniform_int_distribution<int>(0, n - 1)(rng)].feature);
+  std::vector<double> nearest(n, std::numeric_limits<double>::infinity());
+  while (int(centroids->size()) < groups) {
+    double total = 0;
+    for (int i = 0; i < n; ++i) {
+      nearest[i] = std::min(nearest[i], SquaredDistance(pixels[i].feature, centroids->back()));
+      total += nearest[i];
+    }
+    double pick = std::uniform_real_distribution<double>(0, total)(rng);
+    int chosen = n - 1;
+    for (int i = 0; i < n; ++i)
+      if ((pick -= nearest[i]) <= 0) {
+        chosen = i;
+        break;
+      }
+    centroids->push_back(pixels[chosen].feature);
+  }
+  std::vector<int> label(n, -1);
+  for (int iteration = 0; iteration < 50; ++iteration) {
+    bool changed = false;
+#pragma omp parallel for reduction(|| : changed)
+    for (int i = 0; i < n; ++i) {
+      int best = 0;
+      double best_d = std::numeric_limits<double>::infinity();
+      for (int g = 0; g < groups; ++g) {
+        const double d = SquaredDistance(pixels[i].feature, (*centroids)[g]);
+        if (d < best_d) best_d = d, best = g;
+      }
+      changed = changed || best != label[i];
+      label[i] = best;
+    }
+    if (!changed) break;
+    std::vector<std::vector<double>> sum(groups, std::vector<double>(pixels[0].feature.size()));
+    std::vector<int> count(groups, 0);
+    for (int i = 0; i < n; ++i) {
+      ++count[label[i]];
+      for (std::size_t j = 0; j < sum[0].size(); ++j) sum[label[i]][j] += pixels[i].feature[j];
+    }
+    for (int g = 0; g < groups; ++g) {
+      if (count[g] == 0) {
+        int far = 0;
+        double far_d = -1;
+        for (int i = 0; i < n; ++i) {
+          const double d = SquaredDistance(pixels[i].feature, (*centroids)[label[i]]);
+          if (d > far_d) far_d = d, far = i;
+        }
+        (*centroids)[g] = pixels[far].feature;
+        label[far] = g;
+        continue;
+      }
+      for (double& v : sum[g]) v /= count[g];
+      (*centroids)[g] = sum[g];
+    }
+  }
+  return label;
+}
+
+// k-means splits a material whose pixels scatter widely (the near field's ill-conditioned
+// pixels scatter most) into pieces that the held-out views then keep: each piece's centre fits
+// its part of the field's directions better, and extrapolates worse. Groups whose centroids lie
+// closer than kOverlap times the narrower group's RMS scatter are one blob and are merged (a
+// normal blob cut in two gives halves 2.7 half-scatters apart; the narrower, so that a tight
+// small material next to a wide one keeps its own group).
+constexpr double kOverlap = 3.0;
+int MergeOverlapping(const std::vector<SamplePixel>& pixels, int groups, std::vector<int>* label) {
+  for (;;) {
+    std::vector<std::vector<double>> mean(groups);
+    std::vector<double> scatter(groups, 0);
+    std::vector<int> count(groups, 0);
+    for (int i = 0; i < int(pixels.size()); ++i) {
+      std::vector<double>& m = mean[(*label)[i]];
+      if (m.empty()) m.assign(pixels[i].feature.size(), 0);
+      for (std::size_t j = 0; j < m.size(); ++j) m[j] += pixels[i].feature[j];
+      ++count[(*label)[i]];
+    }
+    for (int g = 0; g < groups; ++g)
+      for (double& v : mean[g]) v /= count[g];
+    for (int i = 0; i < int(pixels.size()); ++i)
+      scatter[(*label)[i]] += SquaredDistance(pixels[i].feature, mean[(*label)[i]]);
+    for (int g = 0; g < groups; ++g) scatter[g] = count[g] ? std::sqrt(scatter[g] / count[g]) : 0;
+    int merge_a = -1, merge_b = -1;
+    double closest = std::numeric_limits<double>::infinity();
+    for (int a = 0; a < groups; ++a)
+      for (int b = a + 1; b < groups; ++b) {
+        if (!count[a] || !count[b]) continue;
+        const double d = std::sqrt(SquaredDistance(mean[a], mean[b]));
+        const double ratio = d / std::min(scatter[a], scatter[b]);
+        if (ratio < kOverlap && ratio < closest) closest = ratio, merge_a = a, merge_b = b;
+      }
+    if (merge_a < 0) break;
+    for (int& l : *label) {
+      if (l == merge_b) l = merge_a;
+      if (l == groups - 1) l = merge_b;  // keep the labels dense
+    }
+    --groups;
+  }
+  return groups;
+}
+
+// A group's normal equations per view, over its pixels' rows (first K components), as the mean
+// over its pixels: a centre from all views, or from all but one, is then one small solve. With
+// the independent solve's eta the centre is regularised as one pixel is: at zero field of view
+// (every pixel seeing the same directions) it is the independent solve of the pixels' mean.
+// What pooling adds is the spread of directions the near field gives, not the pixels' count:
+// pixels of one material seen from nearly the same directions share the basis's out-of-space
+// residual there, so counting them as independent evidence (the plain sum, or one observation
+// per distinct bin) let the centre fit that residual and extrapolate badly (measured:
+// docs/reconstruction.md, "Pooled").
+struct ViewStats {
+  std::vector<Eigen::MatrixXd> a, b;  // per view: Q^T Q (K x K), Q^T y (K x 3), pixel means
+  std::vector<double> s;              // per view: |y|^2, pixel mean
+  Eigen::MatrixXd a_all, b_all;
+  ViewStats(const std::vector<SamplePixel>& pixels, const std::vector<int>& members, int K,
+            int views)
+      : a(views, Eigen::MatrixXd::Zero(K, K)), b(views, Eigen::MatrixXd::Zero(K, 3)), s(views, 0) {
+    const double w = 1.0 / std::max<std::size_t>(members.size(), 1);
+    for (int i : members) {
+      const SamplePixel& p = pixels[i];
+      for (int r = 0; r < int(p.view.size()); ++r) {
+        const Eigen::VectorXd q = p.rows.row(r).head(K).transpose().cast<double>();
+        a[p.view[r]].selfadjointView<Eigen::Lower>().rankUpdate(q, w);
+        b[p.view[r]].noalias() += w * q * p.y.row(r);
+        s[p.view[r]] += w * p.y.row(r).squaredNorm();
+      }
+    }
+    a_all = Eigen::MatrixXd::Zero(K, K), b_all = Eigen::MatrixXd::Zero(K, 3);
+    for (int v = 0; v < views; ++v) {
+      a[v] = a[v].selfadjointView<Eigen::Lower>();
+      a_all += a[v];
+      b_all += b[v];
+    }
+  }
+  // The centre (K x 3, zero past kc) from every view but `without` (-1: from all).
+  Eigen::MatrixXd Centre(int kc, double eta, int without = -1) const {
+    Eigen::MatrixXd m = a_all.topLeftCorner(kc, kc);
+    Eigen::MatrixXd rhs = b_all.topRows(kc);
+    if (without >= 0) {
+      m -= a[without].topLeftCorner(kc, kc);
+      rhs -= b[without].topRows(kc);
+    }
+    m.diagonal().array() += std::max(eta, 1e-9);
+    Eigen::MatrixXd centre = Eigen::MatrixXd::Zero(a_all.rows(), 3);
+    centre.topRows(kc) = m.ldlt().solve(rhs);
+    return centre;
+  }
+  std::vector<Eigen::MatrixXd> CentresWithoutEachView(int kc, double eta) const {
+    std::vector<Eigen::MatrixXd> out;
+    for (int v = 0; v < int(a.size()); ++v) out.push_back(Centre(kc, eta, v));
+    return out;
+  }
+};
+
+// The centre's held-out error: each view left out of all the group's pixels at once, the
+// centre fitted from the other views, its squared error on the view left out.
+double CentreHeldOut(const ViewStats& stats, int kc, double eta) {
+  double err = 0;
+  for (int u = 0; u < int(stats.a.size()); ++u) {
+    if (stats.s[u] == 0) continue;
+    const Eigen::MatrixXd c = stats.Centre(kc, eta, u).topRows(kc);
+    const Eigen::MatrixXd bu = stats.b[u].topRows(kc), au = stats.a[u].topLeftCorner(kc, kc);
+    err += stats.s[u] - 2 * (c.array() * bu.array()).sum() + (c.array() * (au * c).array()).sum();
+  }
+  return err;
+}
+
+// The centre's components by its held-out error, the smallest within kSizeTolerance of the best.
+int ChooseCentreComponents(const ViewStats& stats, int k, double eta) {
+  const int K = int(stats.a_all.rows());
+  std::vector<int> candidates;
+  for (int kc = k; kc < K; kc += 8) candidates.push_back(kc);
+  candidates.push_back(K);
+  int best_kc = k;
+  double best = std::numeric_limits<double>::infinity();
+  for (int kc : candidates) {
+    const double err = CentreHeldOut(stats, kc, eta);
+    if (err < best * (1 - kSizeTolerance)) best = err, best_kc = kc;
+  }
+  return best_kc;
+}
+
+struct GroupFit {
+  Eigen::MatrixXd centre;  // K x 3
+  int centre_components = 0;
+  double strength = 0, squared_error = 0;
+  long observations = 0;
+};
+
+// The strength with the least leave-one-view-out error over the group's pixels.
+void ChooseStrength(const std::vector<SamplePixel>& pixels, const std::vector<int>& members,
+                    const ViewStats& stats, double eta, const std::vector<double>& grid,
+                    GroupFit* fit) {
+  const std::vector<Eigen::MatrixXd> without =
+      stats.CentresWithoutEachView(fit->centre_components, eta);
+  // Each pixel's errors in its own slot, summed in order afterwards: the same model (and map)
+  // whatever the threads' timing.
+  std::vector<double> e(members.size() * grid.size());
+#pragma omp parallel for schedule(dynamic, 16)
+  for (std::size_t m = 0; m < members.size(); ++m)
+    PooledLeaveOneOut(pixels[members[m]], without, fit->centre_components, grid,
+                      &e[m * grid.size()]);
+  std::vector<double> sum(grid.size(), 0);
+  long observations = 0;
+  for (std::size_t m = 0; m < members.size(); ++m) {
+    for (std::size_t s = 0; s < grid.size(); ++s) sum[s] += e[m * grid.size() + s];
+    observations += long(pixels[members[m]].view.size());
+  }
+  const std::size_t best = std::min_element(sum.begin(), sum.end()) - sum.begin();
+  fit->strength = grid[best];
+  fit->squared_error = sum[best];
+  fit->observations = observations;
+}
+
+// The given percentile over the members of the RMS misfit of the centre to each one's data.
+double MisfitPercentile(const std::vector<SamplePixel>& pixels, const std::vector<int>& members,
+                        const Eigen::MatrixXd& centre, double percentile) {
+  std::vector<double> misfit;
+  for (int i : members) {
+    const SamplePixel& p = pixels[i];
+    const Eigen::MatrixXd r = p.y - p.rows.cast<double>() * centre;
+    misfit.push_back(std::sqrt(r.squaredNorm() / (3.0 * double(p.view.size()))));
+  }
+  const std::size_t at =
+      std::min(misfit.size() - 1, std::size_t(percentile * double(misfit.size())));
+  std::nth_element(misfit.begin(), misfit.begin() + at, misfit.end());
+  return misfit[at];
+}
+
+double Rms(double squared, long observations) {
+  return observations > 0 ? std::sqrt(squared / (3.0 * double(observations))) : 0.0;
+}
+
+}  // namespace
+
+PooledModel FitPooledModel(const BasisView& basis, const PixelObservations& sample,
+                           const PixelSolveOptions& solve, const PooledOptions& options) {
+  solve.Check(basis);
+  options.Check();
+  const int k = solve.components;
+  const int K = std::max(k, options.max_centre_components > 0
+                                ? std::min(options.max_centre_components, basis.components)
+                                : basis.components);
+  PooledModel model;
+  model.components = K;
+  model.features = std::min(k, kFeatureComponents);
+  std::size_t valid_bins = 0;
+  for (std::size_t b = 0; b < merl::kBins; ++b) valid_bins += basis.valid[b] != 0;
+  for (int i = 0; i < K; ++i)
+    model.weight.push_back(basis.singular_values[i] /
+                           std::sqrt(double(std::max<std::size_t>(valid_bins, 1))));
+
+  const std::vector<SamplePixel> pixels = PrepareSample(basis, sample, solve, K, model);
+  model.sample_pixels = int(pixels.size());
+  double independent = 0;
+  long observations = 0;
+  for (const SamplePixel& p : pixels)
+    independent += p.independent_sq, observations += long(p.view.size());
+  model.independent_held_out_rms = model.held_out_rms = Rms(independent, observations);
+  if (int(pixels.size()) < kMinUsableSample) return model;
+
+  const std::vector<double> grid = StrengthGrid(solve.eta);
+  auto members_of = [&](const std::vector<int>& label, int groups) {
+    std::vector<std::vector<int>> members(groups);
+    for (int i = 0; i < int(label.size()); ++i) members[label[i]].push_back(i);
+    return members;
+  };
+  // G by held-out views, with every centre at k components (its own size is chosen next).
+  std::vector<int> tried;
+  if (options.groups > 0) {
+    tried = {std::min(options.groups, int(pixels.size()))};
+  } else {
+    for (int g : {1, 2, 3, 4, 6, 8, 12, 16, 24, 32, 48, 64, 96, 128, 192, 256})
+      if (g <= options.max_groups && g * 8 <= int(pixels.size())) tried.push_back(g);
+  }
+  std::vector<std::vector<int>> labels;
+  std::vector<int> sizes;  // groups after merging
+  int chosen = -1, worse_in_a_row = 0;
+  double best = std::numeric_limits<double>::infinity();
+  for (int seeded : tried) {
+    std::vector<std::vector<double>> centroids;
+    labels.push_back(KMeans(pixels, seeded, options.seed, &centroids));
+    const int groups =
+        options.groups > 0 ? seeded : MergeOverlapping(pixels, seeded, &labels.back());
+    sizes.push_back(groups);
+    double squared = 0;
+    for (const std::vector<int>& members : members_of(labels.back(), groups)) {
+      if (members.empty()) continue;
+      const ViewStats stats(pixels, members, k, sample.views);
+      GroupFit fit;
+      fit.centre_components = k;
+      ChooseStrength(pixels, members, stats, solve.eta, grid, &fit);
+      squared += fit.squared_error;
+    }
+    const double rms = Rms(squared, observations);
+    model.selection.push_back({groups, rms});
+    // A trial that merged back to a size already tried counts as one that did not earn its
+    // keep; three of those in a row end the search.
+    const bool repeat = sizes.size() > 1 && groups <= sizes[sizes.size() - 2];
+    if (!repeat && rms < best * (1 - kGroupTolerance)) {
+      best = rms, chosen = int(labels.size()) - 1, worse_in_a_row = 0;
+    } else if (++worse_in_a_row == 3) {
+      break;
+    }
+  }
+  const int groups = sizes[chosen];
+  const std::vector<std::vector<int>> members = members_of(labels[chosen], groups);
+  double squared = 0;
+  for (int g = 0; g < groups; ++g) {
+    if (members[g].empty()) continue;
+    const ViewStats stats(pixels, members[g], K, sample.views);
+    GroupFit fit;
+    fit.centre_components = ChooseCentreComponents(stats, k, solve.eta);
+    fit.centre = stats.Centre(fit.centre_components, solve.eta);
+    ChooseStrength(pixels, members[g], stats, solve.eta, grid, &fit);
+    PooledGroup group;
+    group.feature.assign(pixels[0].feature.size(), 0.0);  // the members' mean
+    for (int i : members[g])
+      for (std::size_t j = 0; j < group.feature.size(); ++j)
+        group.feature[j] += pixels[i].feature[j] / double(members[g].size());
+    group.centre.resize(3 * K);
+    for (int ch = 0; ch < 3; ++ch)
+      for (int j = 0; j < K; ++j) group.centre[ch * K + j] = float(fit.centre(j, ch));
+    group.centre_components = fit.centre_components;
+    group.strength = fit.strength;
+    group.sample_pixels = int(members[g].size());
+    group.held_out_rms = Rms(fit.squared_error, fit.observations);
+    group.misfit_limit = MisfitPercentile(pixels, members[g], fit.centre, 0.99);
+    model.groups.push_back(std::move(group));
+    squared += fit.squared_error;
+  }
+  model.held_out_rms = Rms(squared, observations);
+  return model;
+}
+
+}  // namespace acq

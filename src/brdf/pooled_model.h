@@ -1,0 +1,85 @@
+// The pooled reconstruction's model (docs/reconstruction.md, "Pooled"): a sample's pixels grouped
+// by material, each group's centre BRDF fitted from all its pixels' observations, and the
+// strength of the prior that pulls a pixel towards its centre. Every size of the model is chosen
+// from the data by held-out views, on a sample of the image's pixels held in memory:
+//   - the number of groups G: k-means on the pixels' independent solutions (a space the near
+//     field does not shift: each pixel's coefficients, not its observations), then each pixel's
+//     leave-one-view-out error with its group's prior; the smallest G within 1% of the best
+//     (a larger model must earn its keep: "model no more than a scene needs");
+//   - each group's centre components k_c (up to the basis's stored ones): one view left out of
+//     all the group's pixels at once, the centre fitted from the rest, its error on that view;
+//   - each group's prior strength lambda: each pixel's exact leave-one-view-out error of the
+//     ridge towards the centre (hat-matrix formula, no refits), summed over the group.
+// The per-pixel solve that uses the model is pooled_solver.h.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "brdf/basis.h"
+#include "brdf/pixel_solver.h"
+
+namespace acq {
+
+enum class ReconstructionMethod {
+  kIndependent,  // every pixel alone, from its own views (Yu et al. Sec. 3.1)
+  kPooled,       // every pixel with a prior towards its material group's centre
+};
+// The default of plans and of `acq reconstruct`: pooled, which measured better than independent
+// through acqd on the simulated card at 4 degrees (docs/reconstruction.md, "Pooled").
+inline constexpr ReconstructionMethod kDefaultReconstructionMethod = ReconstructionMethod::kPooled;
+// "independent", "pooled"; nullopt for another name.
+const char* ReconstructionMethodName(ReconstructionMethod method);
+std::optional<ReconstructionMethod> ParseReconstructionMethod(const std::string& name);
+
+struct PooledOptions {
+  int groups = 0;                 // 0: chosen by held-out views; > 0: forced
+  int max_groups = 64;            // the largest G tried
+  int sample_pixels = 8192;       // pixels the model is fitted on (spread over the image)
+  int max_centre_components = 0;  // largest k_c tried; 0: every component the basis stores
+  std::uint64_t seed = 1;         // k-means++ seeding and the sample's choice
+  void Check() const;             // throws UserError
+};
+
+struct PooledGroup {
+  std::vector<double> feature;  // the k-means centroid, PooledModel::features per channel x 3
+  std::vector<float> centre;    // 3 x PooledModel::components, R then G then B; zero past k_c
+  int centre_components = 0;    // k_c
+  double strength = 0;          // lambda of the prior; infinite: the pixel is its centre
+  int sample_pixels = 0;
+  double held_out_rms = 0;  // the group's pixels' leave-one-view-out RMS (log space)
+  // A pixel whose observations the centre misses by more than this (RMS, log space) is not of
+  // the group: the 99th percentile over the group's sample pixels.
+  double misfit_limit = 0;
+};
+
+struct PooledModel {
+  int components = 0;          // coefficients per channel of a centre (the map's k)
+  int features = 0;            // feature components per channel
+  std::vector<double> weight;  // per component: the RMS log-space size of a unit coefficient
+  std::vector<PooledGroup> groups;
+  struct Trial {
+    int groups = 0;
+    double held_out_rms = 0;
+  };
+  std::vector<Trial> selection;         // each G tried, in order
+  double held_out_rms = 0;              // the chosen model's, over the sample
+  double independent_held_out_rms = 0;  // the independent solve's on the same sample
+  int sample_pixels = 0;                // usable pixels of the sample
+  // A feature vector of per-channel coefficients (3 x k, R then G then B).
+  void Feature(const float* coefficients, int k, double* feature) const;
+
+  // The RMS log-space difference over the grid between two coefficient sets (3 x a, 3 x b).
+  double Distance(const float* a, int ka, const float* b, int kb) const;
+  std::string Summary() const;  // a few lines for the log, the map's header and the report
+};
+
+// Fits the model to the sample's pixels (any subset of the image; each pixel's own views).
+// A sample too small to group (fewer than 16 usable pixels) gives a model with no groups,
+// with which the pooled solve is the independent one.
+PooledModel FitPooledModel(const BasisView& basis, const PixelObservations& sample,
+                           const PixelSolveOptions& solve, const PooledOptions& options);
+
+}  // namespace acq
