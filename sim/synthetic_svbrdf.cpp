@@ -50,6 +50,14 @@ SyntheticSvbrdf MakeCardLayout(int width, int height, double sample_size_mm, int
 }
 
 std::array<double, 3> GroundTruth::Value(const DirectionPair& d) const {
+  if (!mix.empty()) {
+    std::array<double, 3> sum{};
+    for (const auto& [truth, w] : mix) {
+      const std::array<double, 3> v = truth->Value(d);
+      for (int c = 0; c < 3; ++c) sum[c] += w * v[c];
+    }
+    return sum;
+  }
   if (table) return table->Lookup(d.in, d.out);
   return network->Evaluate(RusinkiewiczFromDirections(d.in, d.out));
 }

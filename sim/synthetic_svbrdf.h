@@ -38,6 +38,9 @@ SyntheticSvbrdf MakeCardLayout(int width, int height, double sample_size_mm, int
 struct GroundTruth {
   const NeuralBrdf* network = nullptr;
   const MerlBrdf* table = nullptr;
+  // A mixed material (sample_layouts.h): the weighted sum of these truths' values; network and
+  // table are then unused.
+  std::vector<std::pair<const GroundTruth*, double>> mix;
   std::array<double, 3> Value(const DirectionPair& d) const;
 };
 

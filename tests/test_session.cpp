@@ -409,8 +409,10 @@ TEST_CASE("session: a whole simulated session, scored; kill -9 and resume give t
     INFO(k10);
     CHECK(k10.find("reconstruction.k: 20 -> 10") != std::string::npos);
     const SvbrdfMap ten = ReadSvbrdfMap(base + "/k10/svbrdf.exr");
-    CHECK(ten.info.components == 10);
-    CHECK(ten.planes.size() == SvbrdfChannelNames(10).size());
+    // The pooled solve (the default) solves k = 10 per pixel; its map holds the largest group
+    // centre's components, at least k.
+    CHECK(ten.info.components >= 10);
+    CHECK(ten.planes.size() == SvbrdfChannelNames(ten.info.components).size());
     CHECK(JsonNumbers(ReadText(base + "/k10/report.json"), "relative_rms").size() == 3);
     // From the reconstruction on, the session's correspondence maps are reused as acqd wrote
     // them: acqd computed them from the calibration as its files hold it (a map computed again

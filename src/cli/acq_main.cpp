@@ -78,11 +78,15 @@ const std::map<std::string, Command>& Commands() {
         "    [--kernel lanes|lanes-single|one-pixel] [--max-condition C] [--min-observations N]\n"
         "    [--sample-size-mm S] [--quiet]\n"
         "    [--method pooled|independent] [--groups 0] [--max-groups 64] [--sample-pixels 8192]\n"
+        "    [--sample card|blend|marble|text | --sample-labels PNG|EXR | --sample-weights EXR]\n"
         "  Reconstructs a synthetic printed card from observations made straight from the\n"
         "  ground truth, per pixel, into an SVBRDF map (docs/svbrdf-map.md); --score compares\n"
         "  every pixel with its true material. --method pooled groups the pixels by material\n"
         "  and solves each with a prior towards its group's centre (docs/reconstruction.md);\n"
-        "  --groups forces the number of groups (0: chosen by held-out views)."}},
+        "  --groups forces the number of groups (0: chosen by held-out views). --sample picks a\n"
+        "  built-in sample of the materials (blend, marble and text use the first two); a label\n"
+        "  image holds each pixel's index into --materials, a weight image one channel per\n"
+        "  material, named as it, summing to one (docs/reconstruction.md)."}},
       {"render quicklook",
        {RenderQuicklook,
         "acq render quicklook --map MAP.exr -o DIR [--basis BASIS]\n"

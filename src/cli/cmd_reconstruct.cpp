@@ -13,6 +13,7 @@
 #include "cli/geometry_args.h"
 #include "core/angles.h"
 #include "core/error.h"
+#include "sim/sample_layouts.h"
 #include "sim/synthetic_svbrdf.h"
 
 namespace acq::cli {
@@ -37,6 +38,34 @@ ReconstructionMethod MethodFrom(const Args& args) {
   if (const std::optional<ReconstructionMethod> method = ParseReconstructionMethod(m))
     return *method;
   throw UserError("--method", "must be 'independent' or 'pooled', got '" + m + "'");
+}
+
+// The sample: a built-in one (--sample) or one described in a file (--sample-labels,
+// --sample-weights), whose size is then the file's.
+sim::MixedSample SampleFrom(const Args& args, const std::vector<std::string>& names, int w, int h,
+                            const sim::ObservationOptions& o) {
+  const double size = o.geometry.sample_size_mm;
+  std::optional<sim::MixedSample> from_file;
+  if (args.Has("sample-labels") && args.Has("sample-weights"))
+    throw UserError("--sample-labels", "give a label image or a weight image, not both");
+  if (args.Has("sample-labels"))
+    from_file = sim::ReadSampleLabels(args.Get("sample-labels"), int(names.size()), size);
+  if (args.Has("sample-weights"))
+    from_file = sim::ReadSampleWeights(args.Get("sample-weights"), names, size);
+  if (from_file) {
+    if (args.Has("size") && (from_file->layout.width != w || from_file->layout.height != h))
+      throw UserError(
+          args.Has("sample-labels") ? args.Get("sample-labels") : args.Get("sample-weights"),
+          "the sample file is " + std::to_string(from_file->layout.width) + "x" +
+              std::to_string(from_file->layout.height) + " pixels but --size says " +
+              args.Get("size"),
+          "leave out --size: the file's size is used");
+    return *from_file;
+  }
+  const std::string kind = args.Get("sample", "card");
+  const std::optional<sim::SampleKind> k = sim::ParseSampleKind(kind);
+  if (!k) throw UserError("--sample", "must be card, blend, marble or text, got '" + kind + "'");
+  return sim::MakeSample(*k, w, h, size, int(names.size()), o.seed);
 }
 
 void ParseSize(const std::string& s, int* w, int* h) {
@@ -74,7 +103,10 @@ int ReconstructSynthetic(const Argv& argv) {
                                   "method",
                                   "groups",
                                   "max-groups",
-                                  "sample-pixels"};
+                                  "sample-pixels",
+                                  "sample",
+                                  "sample-labels",
+                                  "sample-weights"};
   valued.insert(kGeometryOptions.begin(), kGeometryOptions.end());
   const Args args("acq reconstruct synthetic", argv, valued,
                   {"ignore-near-field", "truth-tables", "score", "quiet"});
@@ -105,9 +137,9 @@ int ReconstructSynthetic(const Argv& argv) {
   const bool need_tables = args.Has("truth-tables") || args.Has("score");
   if (need_tables)
     for (const auto& n : networks) tables.push_back(n.Tabulate());
-  std::vector<sim::GroundTruth> truth;
+  std::vector<sim::GroundTruth> base;
   for (std::size_t i = 0; i < networks.size(); ++i)
-    truth.push_back({&networks[i], args.Has("truth-tables") ? &tables[i] : nullptr});
+    base.push_back({&networks[i], args.Has("truth-tables") ? &tables[i] : nullptr});
 
   const std::vector<NearFieldGeometry> geometries = GeometriesFrom(args);
   if (geometries.size() != 1) throw UserError("--fov-deg", "give one field of view");
@@ -116,9 +148,10 @@ int ReconstructSynthetic(const Argv& argv) {
   o.centre_directions = args.Has("ignore-near-field");
   o.noise_sigma = noise;
   o.seed = std::uint64_t(args.GetInt("seed", 1));
-  sim::SyntheticSource source(
-      sim::MakeCardLayout(w, h, o.geometry.sample_size_mm, int(names.size()), o.seed), truth, views,
-      o);
+  const sim::MixedSample sample = SampleFrom(args, names, w, h, o);
+  const std::vector<sim::GroundTruth> truth = sample.Truths(base);
+  sim::SyntheticSource source(sample.layout, truth, views, o);
+  w = sample.layout.width, h = sample.layout.height;
 
   ReconstructionOptions r;
   r.solve.components = args.GetInt("k", r.solve.components, 1, 64);
@@ -180,13 +213,15 @@ int ReconstructSynthetic(const Argv& argv) {
     // Against the ground truth: each pixel's grid log-space RMSE against its material's table.
     const SvbrdfMap map = ReadSvbrdfMap(out);
     const std::vector<std::uint8_t>& labels = source.scene().label;
+    const std::vector<MerlBrdf> mixed = sample.Tables(tables);
+    const std::vector<std::string> sample_names = sample.Names(names);
     const MapScore score =
-        ScoreMap(map, basis, std::vector<int>(labels.begin(), labels.end()), tables);
+        ScoreMap(map, basis, std::vector<int>(labels.begin(), labels.end()), mixed);
     std::printf(
         "score: median per-pixel log-space RMSE against the ground truth: %.4f (%ld pixels x 3 "
         "channels; %.4f over the %ld valid)\n",
         score.median_log_rmse, score.pixels, score.median_log_rmse_valid, score.valid);
-    for (std::size_t m = 0; m < names.size(); ++m) {
+    for (std::size_t m = 0; m < sample_names.size(); ++m) {
       // Which groups the material's pixels went to (the pooled reconstruction's diagnostics).
       std::map<int, long> groups;
       for (std::size_t p = 0; p < labels.size(); ++p)
@@ -195,8 +230,8 @@ int ReconstructSynthetic(const Argv& argv) {
       for (const auto& [g, n] : groups)
         in += " " + (g < 0 ? std::string("alone") : "g" + std::to_string(g)) + ":" +
               std::to_string(n);
-      std::printf("score: material %s median per-pixel log-space RMSE %.4f;%s\n", names[m].c_str(),
-                  score.material_median_log_rmse[m], in.c_str());
+      std::printf("score: material %s median per-pixel log-space RMSE %.4f;%s\n",
+                  sample_names[m].c_str(), score.material_median_log_rmse[m], in.c_str());
     }
   }
   return 0;
