@@ -122,6 +122,18 @@ expect_error "bad image size" "--size" "WIDTHxHEIGHT" -- \
 expect_error "band not a multiple of the tile" "--band-rows" "multiple of --row-tile" -- \
   "$acq" reconstruct synthetic --basis "$tmp/three.acqb" --directions "$data/directions/seed_directions_20.tsv" \
   --materials-dir "$data/nbrdf/merl" --materials brass --size 16x16 --k 3 --row-tile 8 --band-rows 12 -o "$tmp/x.exr"
+/usr/bin/python3 -c "import numpy, cv2; cv2.imwrite('$tmp/labels.png', numpy.array([[0, 1], [3, 0]], numpy.uint8))"
+expect_error "sample label naming no material" "labels.png" "has label 3" -- \
+  "$acq" reconstruct synthetic --basis "$tmp/three.acqb" --directions "$data/directions/seed_directions_20.tsv" \
+  --materials-dir "$data/nbrdf/merl" --materials brass,white-paint --k 3 --sample-labels "$tmp/labels.png" -o "$tmp/x.exr"
+/usr/bin/python3 -c "import numpy, cv2; cv2.imwrite('$tmp/labels.png', numpy.array([[0, 1], [1, 0]], numpy.uint8))"
+expect_error "sample file of another size than --size" "labels.png" "2x2 pixels but --size says 16x16" -- \
+  "$acq" reconstruct synthetic --basis "$tmp/three.acqb" --directions "$data/directions/seed_directions_20.tsv" \
+  --materials-dir "$data/nbrdf/merl" --materials brass,white-paint --k 3 --sample-labels "$tmp/labels.png" \
+  --size 16x16 -o "$tmp/x.exr"
+expect_error "unknown sample" "--sample" "card, blend, marble or text" -- \
+  "$acq" reconstruct synthetic --basis "$tmp/three.acqb" --directions "$data/directions/seed_directions_20.tsv" \
+  --materials-dir "$data/nbrdf/merl" --k 3 --sample tartan -o "$tmp/x.exr"
 expect_error "render a file that is not a map" "below.tsv" "cannot read the SVBRDF map" -- \
   "$acq" render quicklook --map "$tmp/below.tsv" -o "$tmp/q"
 # Another basis for sure: two builds of the same materials differ only by chance (two here differed

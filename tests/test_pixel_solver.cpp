@@ -19,7 +19,9 @@
 #include "calib/synthetic_board.h"
 #include "core/angles.h"
 #include "core/error.h"
+#include "io/float_planes_exr.h"
 #include "issue_split.h"
+#include "sim/sample_layouts.h"
 #include "sim/sim_gige_camera.h"
 #include "sim/synthetic_svbrdf.h"
 #include "test_helpers.h"
@@ -677,4 +679,73 @@ TEST_CASE("pooled: the model is the same from run to run", "[pixel][pooled]") {
   PooledOptions bad;
   bad.groups = -1;
   CHECK_THROWS_AS(bad.Check(), UserError);
+}
+
+TEST_CASE("samples: blends are exact mixtures, files are checked", "[pixel][samples]") {
+  const Fixture& d = Data();
+  const sim::MixedSample blend = sim::MakeSample(sim::SampleKind::kBlend, 64, 4, 10.0, 2, 1);
+  CHECK(blend.mixtures.size() == 17);  // weights 0, 1/16, ..., 1
+  for (int x = 1; x < 64; ++x) {       // the weight of material 1 grows left to right
+    const auto& a = blend.mixtures[blend.layout.label[x - 1]];
+    const auto& b = blend.mixtures[blend.layout.label[x]];
+    const double wa = a.back().first == 1 ? a.back().second : 0;
+    const double wb = b.back().first == 1 ? b.back().second : 0;
+    REQUIRE(wb >= wa);
+  }
+  // A mixture's truth is the weighted sum of its materials', in the network and in the table.
+  const std::vector<sim::GroundTruth> base = {d.continuous[0], d.continuous[1]};
+  const std::vector<sim::GroundTruth> truth = blend.Truths(base);
+  const std::vector<MerlBrdf> tables = blend.Tables({d.tables[0], d.tables[1]});
+  for (std::size_t m = 0; m < blend.mixtures.size(); ++m) {
+    if (blend.mixtures[m].size() != 2) continue;
+    const double w = blend.mixtures[m][1].second;
+    const DirectionPair dirs{Eigen::Vector3d(0.3, 0.1, 0.95).normalized(),
+                             Eigen::Vector3d(-0.2, 0.2, 0.96).normalized()};
+    const auto mixed = truth[m].Value(dirs);
+    const auto a = base[0].Value(dirs), b = base[1].Value(dirs);
+    CHECK(mixed[1] == Approx((1 - w) * a[1] + w * b[1]).epsilon(1e-12));
+    const std::size_t bin = 123456;
+    if (d.tables[0].raw[bin] >= 0 && d.tables[1].raw[bin] >= 0)
+      CHECK(tables[m].raw[bin] ==
+            Approx((1 - w) * d.tables[0].raw[bin] + w * d.tables[1].raw[bin]));
+  }
+  for (sim::SampleKind k : {sim::SampleKind::kMarble, sim::SampleKind::kText}) {
+    const sim::MixedSample s = sim::MakeSample(k, 48, 48, 10.0, 2, 3);
+    CHECK(s.mixtures.size() >= 2);
+    for (std::uint8_t l : s.layout.label) REQUIRE(l < s.mixtures.size());
+  }
+
+  test::TempDir dir;
+  FloatPlanes labels;
+  labels.width = 3, labels.height = 2;
+  labels.planes["label"] = {0, 1, 1, 0, 5, 0};
+  WriteFloatPlanesExr(dir / "labels.exr", labels);
+  CHECK_THROWS_WITH(sim::ReadSampleLabels(dir / "labels.exr", 2, 10.0),
+                    Catch::Contains("labels.exr") && Catch::Contains("pixel (1, 1) has label 5"));
+  labels.planes["label"][4] = 1;
+  WriteFloatPlanesExr(dir / "labels.exr", labels);
+  CHECK(sim::ReadSampleLabels(dir / "labels.exr", 2, 10.0).layout.label[4] == 1);
+
+  FloatPlanes weights;
+  weights.width = 2, weights.height = 1;
+  weights.planes["white-paint"] = {0.25f, 0.5f};
+  weights.planes["brass"] = {0.75f, 0.3f};  // the second pixel sums to 0.8
+  WriteFloatPlanesExr(dir / "weights.exr", weights);
+  const std::vector<std::string> names = {"white-paint", "brass"};
+  CHECK_THROWS_WITH(sim::ReadSampleWeights(dir / "weights.exr", names, 10.0),
+                    Catch::Contains("weights.exr") && Catch::Contains("pixel (1, 0)") &&
+                        Catch::Contains("sum to 0.8"));
+  CHECK_THROWS_WITH(sim::ReadSampleWeights(dir / "weights.exr", {"white-paint", "gold"}, 10.0),
+                    Catch::Contains("weights.exr") && Catch::Contains("gold"));
+  weights.planes["brass"] = {0.75f, -0.5f};
+  weights.planes["white-paint"] = {0.25f, 1.5f};
+  WriteFloatPlanesExr(dir / "weights.exr", weights);
+  CHECK_THROWS_WITH(sim::ReadSampleWeights(dir / "weights.exr", names, 10.0),
+                    Catch::Contains("must be >= 0"));
+  weights.planes["brass"] = {0.75f, 0.5f};
+  weights.planes["white-paint"] = {0.25f, 0.5f};
+  WriteFloatPlanesExr(dir / "weights.exr", weights);
+  const sim::MixedSample ok = sim::ReadSampleWeights(dir / "weights.exr", names, 10.0);
+  CHECK(ok.mixtures.size() == 2);
+  CHECK(ok.Names(names)[ok.layout.label[1]] == "0.5 white-paint + 0.5 brass");
 }
