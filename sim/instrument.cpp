@@ -8,6 +8,7 @@
 #include "calib/synthetic_board.h"
 #include "core/error.h"
 #include "sim/ground_truth.h"
+#include "sim/sample_layouts.h"
 
 namespace acq::sim {
 namespace {
@@ -39,21 +40,34 @@ void InstrumentOptions::Check() const {
   if (held_board_poses < 0) throw UserError(where, "a negative number of held board poses");
 }
 
+namespace {
+
+// The instrument's sample: its layout at 0.1 mm per label cell, a few times finer than a camera
+// pixel. One function, because the scoring must rebuild exactly the mixtures the camera saw.
+MixedSample InstrumentSample(SampleKind kind, double sample_size_mm, int materials,
+                             std::uint64_t seed) {
+  const int cells = std::max(16, int(sample_size_mm * 10));
+  return MakeSample(kind, cells, cells, sample_size_mm, materials, seed);
+}
+
+}  // namespace
+
 Instrument::Instrument(const InstrumentOptions& options) : options_(options) {
   options_.Check();
   for (const std::string& path : options_.material_files)
     networks_.push_back(NeuralBrdf::Load(path));
   scene_.kind = RenderScene::Kind::kCard;
   scene_.sample_size_mm = options_.sample_size_mm;
-  // The card's layout at 0.1 mm per label cell, a few times finer than a camera pixel.
-  const int cells = std::max(16, int(options_.sample_size_mm * 10));
-  scene_.card =
-      MakeCardLayout(cells, cells, options_.sample_size_mm, int(networks_.size()), options_.seed);
+  const MixedSample sample = InstrumentSample(options_.sample, options_.sample_size_mm,
+                                              int(networks_.size()), options_.seed);
+  scene_.card = sample.layout;
+  std::vector<std::string> names;
   for (std::size_t i = 0; i < networks_.size(); ++i) {
-    scene_.materials.push_back({&networks_[i], nullptr});
-    scene_.material_names.push_back(
-        std::filesystem::path(options_.material_files[i]).stem().string());
+    base_truths_.push_back({&networks_[i], nullptr});
+    names.push_back(std::filesystem::path(options_.material_files[i]).stem().string());
   }
+  scene_.materials = sample.Truths(base_truths_);
+  scene_.material_names = sample.Names(names);
   model_ = options_.camera_model_file.empty()
                ? FramingPinhole(options_)
                : calib::CameraModel::Read(options_.camera_model_file);
@@ -140,13 +154,15 @@ void Instrument::Place(const Placement& p) {
   camera_->SetScene(std::move(scene));
 }
 
-std::vector<MerlBrdf> TruthTables(const std::vector<std::string>& material_files, bool colour) {
+std::vector<MerlBrdf> TruthTables(const std::vector<std::string>& material_files, bool colour,
+                                  SampleKind sample, double sample_size_mm, std::uint64_t seed) {
   std::vector<MerlBrdf> tables;
   for (const std::string& path : material_files) {
     MerlBrdf table = NeuralBrdf::Load(path).Tabulate();
     tables.push_back(colour ? std::move(table) : LuminanceOf(table));
   }
-  return tables;
+  if (sample == SampleKind::kCard) return tables;
+  return InstrumentSample(sample, sample_size_mm, int(material_files.size()), seed).Tables(tables);
 }
 
 void Instrument::WriteGroundTruth(const std::string& dir) const {

@@ -15,6 +15,7 @@
 #include "brdf/neural_brdf.h"
 #include "calib/board.h"
 #include "calib/camera_model.h"
+#include "core/sample_kind.h"
 #include "core/session_vocabulary.h"
 #include "sim/gantry_firmware.h"
 #include "sim/sim_gige_camera.h"
@@ -24,6 +25,7 @@ namespace acq::sim {
 
 struct InstrumentOptions {
   std::vector<std::string> material_files;  // neural-BRDF fits (.h5): the card's inks
+  SampleKind sample = SampleKind::kCard;    // how the materials are laid out (sample_layouts.h)
   double sample_size_mm = 70;               // the square card's side
   double camera_distance_mm = 1000, light_distance_mm = 1000;
   double light_intensity = 2e5;  // the renderer's units x mm^2
@@ -69,6 +71,7 @@ class Instrument {
   InstrumentOptions options_;
   std::vector<calib::Pose> held_boards_;  // sample_from_chessboard per intrinsics capture
   std::vector<NeuralBrdf> networks_;
+  std::vector<GroundTruth> base_truths_;  // one per network; the scene's mixtures point here
   RenderScene scene_;
   calib::CameraModel model_;
   SensorModel sensor_;
@@ -81,7 +84,10 @@ class Instrument {
 inline const Eigen::Vector3d kWarmLight{1.38, 1.0, 0.55};
 
 // What a map of a set of materials should hold: each tabulated, in linear Rec. 709 for a colour
-// camera, in luminance (the same value thrice) for a mono one.
-std::vector<MerlBrdf> TruthTables(const std::vector<std::string>& material_files, bool colour);
+// camera, in luminance (the same value thrice) for a mono one; for a sample other than the card,
+// the tables of its mixtures in the order of its labels (the same layout the instrument builds).
+std::vector<MerlBrdf> TruthTables(const std::vector<std::string>& material_files, bool colour,
+                                  SampleKind sample = SampleKind::kCard, double sample_size_mm = 0,
+                                  std::uint64_t seed = 1);
 
 }  // namespace acq::sim

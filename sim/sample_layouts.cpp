@@ -125,27 +125,6 @@ void DrawText(SyntheticSvbrdf* s, std::uint64_t seed) {
 
 }  // namespace
 
-const char* SampleKindName(SampleKind kind) {
-  switch (kind) {
-    case SampleKind::kCard:
-      return "card";
-    case SampleKind::kBlend:
-      return "blend";
-    case SampleKind::kMarble:
-      return "marble";
-    case SampleKind::kText:
-      return "text";
-  }
-  return "?";
-}
-
-std::optional<SampleKind> ParseSampleKind(const std::string& name) {
-  for (SampleKind k :
-       {SampleKind::kCard, SampleKind::kBlend, SampleKind::kMarble, SampleKind::kText})
-    if (name == SampleKindName(k)) return k;
-  return std::nullopt;
-}
-
 std::vector<std::string> MixedSample::Names(const std::vector<std::string>& materials) const {
   std::vector<std::string> names;
   for (const Mixture& m : mixtures) {

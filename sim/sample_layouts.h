@@ -11,18 +11,10 @@
 #include <utility>
 #include <vector>
 
+#include "core/sample_kind.h"
 #include "sim/synthetic_svbrdf.h"
 
 namespace acq::sim {
-
-enum class SampleKind {
-  kCard,    // the printed card (MakeCardLayout): a background, two rectangles, text bars
-  kBlend,   // material 0 to material 1 from left to right
-  kMarble,  // materials 0 and 1 mixed by smooth value noise (marbled paper, wood)
-  kText,    // material 1 text, strokes 2-3 pixels wide, on material 0
-};
-const char* SampleKindName(SampleKind kind);  // "card", "blend", "marble", "text"
-std::optional<SampleKind> ParseSampleKind(const std::string& name);
 
 // A mixture: (base material index, weight) pairs, weights summing to one.
 using Mixture = std::vector<std::pair<int, double>>;

@@ -683,7 +683,7 @@ TEST_CASE("pooled: the model is the same from run to run", "[pixel][pooled]") {
 
 TEST_CASE("samples: blends are exact mixtures, files are checked", "[pixel][samples]") {
   const Fixture& d = Data();
-  const sim::MixedSample blend = sim::MakeSample(sim::SampleKind::kBlend, 64, 4, 10.0, 2, 1);
+  const sim::MixedSample blend = sim::MakeSample(SampleKind::kBlend, 64, 4, 10.0, 2, 1);
   CHECK(blend.mixtures.size() == 17);  // weights 0, 1/16, ..., 1
   for (int x = 1; x < 64; ++x) {       // the weight of material 1 grows left to right
     const auto& a = blend.mixtures[blend.layout.label[x - 1]];
@@ -709,7 +709,7 @@ TEST_CASE("samples: blends are exact mixtures, files are checked", "[pixel][samp
       CHECK(tables[m].raw[bin] ==
             Approx((1 - w) * d.tables[0].raw[bin] + w * d.tables[1].raw[bin]));
   }
-  for (sim::SampleKind k : {sim::SampleKind::kMarble, sim::SampleKind::kText}) {
+  for (SampleKind k : {SampleKind::kMarble, SampleKind::kText}) {
     const sim::MixedSample s = sim::MakeSample(k, 48, 48, 10.0, 2, 3);
     CHECK(s.mixtures.size() >= 2);
     for (std::uint8_t l : s.layout.label) REQUIRE(l < s.mixtures.size());

@@ -64,6 +64,10 @@ expect "backend not there" 1 absent_devices.yaml -- \
   "gantry USB 1209:acd0" "lsusb"
 expect "sim without materials" 1 no_sim_materials.yaml --dry-run -- \
   "no_sim_materials.yaml:" "the sim backend needs sim.materials"
+expect "unknown sim.sample" 1 unknown_sample.yaml --dry-run -- \
+  "unknown_sample.yaml:25:" "sim.sample 'tartan' is not known" "card, blend, marble or text"
+expect "a mixed sample of one material" 1 sample_one_material.yaml --dry-run -- \
+  "sample_one_material.yaml:25:" "mixes two materials"
 expect "unknown lens model" 1 bad_lensmodel.yaml --dry-run -- \
   "bad_lensmodel.yaml:18:14:" "unknown or unconfigured lens model 'LENSMODEL_OPENCV6'"
 expect "intrinsics given twice" 1 both_intrinsics.yaml --dry-run -- \

@@ -463,9 +463,22 @@ SimSpec ReadSim(const YAML::Node& root, const Section& top, const std::string& b
                 Backend backend) {
   const Section sim =
       top.Child("sim", {"materials", "seed", "light_intensity", "time_scale", "operator",
-                        "image_size", "camera_model", "camera_filter", "light_rgb"});
+                        "image_size", "camera_model", "camera_filter", "light_rgb", "sample"});
   SimSpec s;
   if (backend == Backend::kSim) s.materials = ReadSimMaterials(root, sim, base);
+  if (sim.Has("sample")) {
+    const std::optional<SampleKind> kind = ParseSampleKind(sim.Text("sample"));
+    if (!kind)
+      throw UserError(sim.Where("sample"), "sim.sample '" + sim.Text("sample") + "' is not known",
+                      "card, blend, marble or text");
+    s.sample = *kind;
+    if (s.sample != SampleKind::kCard && backend == Backend::kSim && s.materials.size() < 2)
+      throw UserError(sim.Where("sample"),
+                      std::string("sim.sample ") + SampleKindName(s.sample) +
+                          " mixes two materials; sim.materials lists " +
+                          std::to_string(s.materials.size()),
+                      "list two materials");
+  }
   s.seed = std::uint64_t(sim.Integer("seed", 1, 0, LLONG_MAX));
   s.light_intensity = sim.Number("light_intensity", s.light_intensity);
   s.time_scale = sim.Number("time_scale", s.time_scale);

@@ -15,6 +15,7 @@
 #include "brdf/basis_rows.h"
 #include "brdf/directions.h"
 #include "brdf/pooled_model.h"
+#include "core/sample_kind.h"
 #include "hw/camera.h"
 #include "hw/usb_transport.h"
 
@@ -74,6 +75,7 @@ struct CalibrationSpec {  // calibration:
 // .cameramodel (its size too).
 struct SimSpec {  // sim:
   std::vector<std::string> materials;
+  SampleKind sample = SampleKind::kCard;  // sim.sample: the layout of the materials
   std::uint64_t seed = 1;
   double light_intensity = 2e5;
   double time_scale = 10;

@@ -155,6 +155,8 @@ std::vector<PlanSetting> PlanSettings(const Plan& plan) {
     for (std::size_t i = 0; i < plan.sim.materials.size(); ++i)
       s.Capture("sim.materials[" + std::to_string(i + 1) + "]", FileValue(plan.sim.materials[i]));
     s.Capture("sim.seed", std::to_string(plan.sim.seed));
+    if (plan.sim.sample != SampleKind::kCard)
+      s.Capture("sim.sample", SampleKindName(plan.sim.sample));
     s.Capture("sim.light_intensity", Number(plan.sim.light_intensity));
     // The simulated sensor's filter and light change every frame (a resume with another would
     // mix two cameras' frames in one map). Recorded where not the mono camera's white light, so

@@ -63,7 +63,7 @@ sim::MixedSample SampleFrom(const Args& args, const std::vector<std::string>& na
     return *from_file;
   }
   const std::string kind = args.Get("sample", "card");
-  const std::optional<sim::SampleKind> k = sim::ParseSampleKind(kind);
+  const std::optional<SampleKind> k = ParseSampleKind(kind);
   if (!k) throw UserError("--sample", "must be card, blend, marble or text, got '" + kind + "'");
   return sim::MakeSample(*k, w, h, size, int(names.size()), o.seed);
 }

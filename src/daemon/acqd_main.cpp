@@ -43,6 +43,7 @@ class UsbGantry : public ProtocolGantry {
 sim::InstrumentOptions InstrumentOptionsOf(const Plan& plan) {
   sim::InstrumentOptions o;
   o.material_files = plan.sim.materials;
+  o.sample = plan.sim.sample;
   o.sample_size_mm = plan.sample.width_mm;
   o.camera_distance_mm = plan.gantry.camera_distance_mm;
   o.light_distance_mm = plan.gantry.light_distance_mm;

@@ -25,7 +25,8 @@ void ScoreMapAgainstTruth(const Plan& plan, const std::string& dir,
                           const sim::GroundTruthFiles& truth_files, SessionReport* report) {
   const MappedBasis mapped = MappedBasis::Open(plan.reconstruction.basis_file);
   const bool colour = CfaOf(plan.camera.settings.pixel_format) != Cfa::kNone;
-  const std::vector<MerlBrdf> truth = sim::TruthTables(plan.sim.materials, colour);
+  const std::vector<MerlBrdf> truth = sim::TruthTables(plan.sim.materials, colour, plan.sim.sample,
+                                                       plan.sample.width_mm, plan.sim.seed);
   // Where each map pixel lies on the sample: computed here, for scoring only (2 s of mrcal's
   // unprojection at 2048 x 2048, not the processing's to spend).
   const ProcessReport& process = report->process;
