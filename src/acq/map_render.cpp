@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
 
 #include "core/colour.h"
 #include "core/error.h"
@@ -162,7 +163,28 @@ void WritePng(const RgbImage& image, const std::string& path, double exposure) {
     throw UserError(path, "cannot write PNG", "check the folder exists and the name ends in .png");
 }
 
+namespace {
+
+// The pooled map's groups, one colour each (hues a golden angle apart), black for pixels solved
+// alone.
+void WriteGroupPng(const SvbrdfMap& map, const std::string& path) {
+  cv::Mat hsv(map.info.height, map.info.width, CV_8UC3);
+  for (int y = 0; y < map.info.height; ++y)
+    for (int x = 0; x < map.info.width; ++x) {
+      const int g = int(map.Plane("group", x, y));
+      hsv.at<cv::Vec3b>(y, x) =
+          g < 0 ? cv::Vec3b(0, 0, 0)
+                : cv::Vec3b(uchar(int(g * 137.508 / 2) % 180), uchar(g % 2 ? 160 : 255), 255);
+    }
+  cv::Mat bgr;
+  cv::cvtColor(hsv, bgr, cv::COLOR_HSV2BGR);
+  if (!cv::imwrite(path, bgr)) throw UserError(path, "cannot write PNG");
+}
+
+}  // namespace
+
 void WriteDiagnosticPng(const SvbrdfMap& map, const std::string& plane, const std::string& path) {
+  if (plane == "group") return WriteGroupPng(map, path);
   const bool log_scale = plane == "condition";
   std::vector<double> v;
   for (int y = 0; y < map.info.height; ++y)

@@ -48,7 +48,8 @@ RowLookup MapRowLookup(const SvbrdfMap& map);
 void WritePng(const RgbImage& image, const std::string& path, double exposure = 0);
 
 // The map's per-pixel diagnostics as a grey PNG: `plane` in valid, observations, condition
-// (log10), residual; scaled to its own range.
+// (log10), residual, departure; scaled to its own range. "group": a colour per group, black for
+// pixels solved alone.
 void WriteDiagnosticPng(const SvbrdfMap& map, const std::string& plane, const std::string& path);
 
 }  // namespace acq

@@ -91,7 +91,8 @@ const std::map<std::string, Command>& Commands() {
        {RenderQuicklook,
         "acq render quicklook --map MAP.exr -o DIR [--basis BASIS]\n"
         "  PNGs of the BRDF at a diffuse and a specular configuration, and of the per-pixel\n"
-        "  diagnostics (valid, observations, condition, residual)."}},
+        "  diagnostics (valid, observations, condition, residual; a pooled map's group and\n"
+        "  departure)."}},
       {"render view",
        {RenderView,
         "acq render view --map MAP.exr -o VIEW.png [--light-theta-deg 30 --light-phi-deg 0]\n"

@@ -3,6 +3,7 @@
 
 #include "acq/map_render.h"
 #include "brdf/basis_file.h"
+#include "brdf/pooled_model.h"
 #include "cli/args.h"
 #include "cli/commands.h"
 #include "cli/geometry_args.h"
@@ -68,10 +69,15 @@ int RenderQuicklook(const Argv& argv) {
            dir + "/diffuse.png");
   WritePng(RenderConfiguration(m.map, m.basis.View(), DirectionsOf(specular), lookup),
            dir + "/specular.png");
-  for (const char* plane : {"valid", "observations", "condition", "residual"})
+  std::vector<std::string> planes = {"valid", "observations", "condition", "residual"};
+  if (m.map.info.method == ReconstructionMethodName(ReconstructionMethod::kPooled))
+    planes.insert(planes.end(), {"group", "departure"});
+  std::string names = "diffuse,specular";
+  for (const std::string& plane : planes) {
     WriteDiagnosticPng(m.map, plane, dir + "/" + plane + ".png");
-  std::printf("wrote %s/{diffuse,specular,valid,observations,condition,residual}.png\n",
-              dir.c_str());
+    names += "," + plane;
+  }
+  std::printf("wrote %s/{%s}.png\n", dir.c_str(), names.c_str());
   return 0;
 }
 
