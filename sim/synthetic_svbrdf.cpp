@@ -62,23 +62,24 @@ std::array<double, 3> GroundTruth::Value(const DirectionPair& d) const {
   return network->Evaluate(RusinkiewiczFromDirections(d.in, d.out));
 }
 
-PixelObservations SyntheticObservations(const SyntheticSvbrdf& scene,
-                                        const std::vector<GroundTruth>& materials,
-                                        const std::vector<ArmAngles>& views,
-                                        const ObservationOptions& options, int first, int count) {
+namespace {
+
+// Observations of count pixels, the p-th being scene pixel pixel_of(p).
+template <class PixelOf>
+PixelObservations Observe(const SyntheticSvbrdf& scene, const std::vector<GroundTruth>& materials,
+                          const std::vector<ArmAngles>& views, const ObservationOptions& options,
+                          int count, PixelOf pixel_of) {
   NearFieldGeometry g = options.geometry;
   g.sample_size_mm = scene.sample_size_mm;
   PixelObservations obs;
   obs.Resize(count, int(views.size()));
-  // Whole rows of the image: tiles of pixels can then share rows.
-  if (first % scene.width == 0 && count % scene.width == 0) obs.width = scene.width;
   std::vector<DirectionPair> far;  // each view's arm directions, once, not per pixel
   for (const ArmAngles& v : views) far.push_back(DirectionsOf(v));
 #pragma omp parallel for schedule(dynamic, 64)
   for (int p = 0; p < count; ++p) {
-    const int pixel = first + p;
+    const int pixel = int(pixel_of(p));
     const Eigen::Vector2d point = scene.PointOf(pixel);
-    // Noise is seeded per pixel so tiles and threads give the same answer.
+    // Noise is seeded per pixel so tiles, threads and samples give the same answer.
     std::mt19937_64 rng(options.seed * 0x9E3779B97F4A7C15ull + std::uint64_t(pixel));
     std::normal_distribution<double> noise(0.0, 1.0);
     for (std::size_t v = 0; v < views.size(); ++v) {
@@ -95,6 +96,28 @@ PixelObservations SyntheticObservations(const SyntheticSvbrdf& scene,
     }
   }
   return obs;
+}
+
+}  // namespace
+
+PixelObservations SyntheticObservations(const SyntheticSvbrdf& scene,
+                                        const std::vector<GroundTruth>& materials,
+                                        const std::vector<ArmAngles>& views,
+                                        const ObservationOptions& options, int first, int count) {
+  PixelObservations obs =
+      Observe(scene, materials, views, options, count, [first](int p) { return first + p; });
+  // Whole rows of the image: tiles of pixels can then share rows.
+  if (first % scene.width == 0 && count % scene.width == 0) obs.width = scene.width;
+  return obs;
+}
+
+PixelObservations SyntheticObservationsAt(const SyntheticSvbrdf& scene,
+                                          const std::vector<GroundTruth>& materials,
+                                          const std::vector<ArmAngles>& views,
+                                          const ObservationOptions& options,
+                                          const std::vector<std::size_t>& pixels) {
+  return Observe(scene, materials, views, options, int(pixels.size()),
+                 [&pixels](int p) { return pixels[p]; });
 }
 
 std::string SyntheticSource::Describe() const {

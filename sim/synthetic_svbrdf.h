@@ -59,6 +59,12 @@ PixelObservations SyntheticObservations(const SyntheticSvbrdf& scene,
                                         const std::vector<GroundTruth>& materials,
                                         const std::vector<ArmAngles>& views,
                                         const ObservationOptions& options, int first, int count);
+// The same for any pixels (indices into the scene, y * width + x), in the given order.
+PixelObservations SyntheticObservationsAt(const SyntheticSvbrdf& scene,
+                                          const std::vector<GroundTruth>& materials,
+                                          const std::vector<ArmAngles>& views,
+                                          const ObservationOptions& options,
+                                          const std::vector<std::size_t>& pixels);
 
 // A synthetic scene as an observation source for the reconstruction job.
 class SyntheticSource : public ObservationSource {
@@ -76,6 +82,9 @@ class SyntheticSource : public ObservationSource {
   PixelObservations Rows(int y0, int rows) override {
     return SyntheticObservations(scene_, materials_, views_, options_, y0 * scene_.width,
                                  rows * scene_.width);
+  }
+  PixelObservations Pixels(const std::vector<std::size_t>& indices, int) override {
+    return SyntheticObservationsAt(scene_, materials_, views_, options_, indices);
   }
   const SyntheticSvbrdf& scene() const { return scene_; }
 

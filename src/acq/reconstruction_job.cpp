@@ -21,29 +21,16 @@ bool InSample(std::size_t index, double fraction, std::uint64_t seed) {
   return double(z >> 11) * 0x1.0p-53 < fraction;
 }
 
-// The first pass of the pooled reconstruction: the sample's observations, band by band.
+// The first pass of the pooled reconstruction: the sample's observations.
 PixelObservations ReadSample(ObservationSource& source, const ReconstructionOptions& options) {
-  const int w = source.Width(), h = source.Height();
-  const double fraction = double(options.pooled.sample_pixels) / (double(w) * double(h));
-  PixelObservations sample;
-  Progress progress("reconstruct: sampling rows", std::size_t(h), options.progress);
-  for (int y0 = 0; y0 < h; y0 += options.band_rows) {
-    const int rows = std::min(options.band_rows, h - y0);
-    const PixelObservations obs = source.Rows(y0, rows);
-    sample.views = obs.views;
-    for (int p = 0; p < obs.pixels; ++p) {
-      if (!InSample(std::size_t(y0) * w + p, fraction, options.pooled.seed)) continue;
-      for (int v = 0; v < obs.views; ++v) {
-        const std::size_t i = obs.At(p, v);
-        sample.light.push_back(obs.light[i]);
-        sample.camera.push_back(obs.camera[i]);
-        sample.rgb.insert(sample.rgb.end(), &obs.rgb[3 * i], &obs.rgb[3 * i] + 3);
-      }
-      ++sample.pixels;
-    }
-    progress.Tick(std::size_t(rows));
-  }
-  return sample;
+  const std::size_t pixels = std::size_t(source.Width()) * std::size_t(source.Height());
+  const double fraction = double(options.pooled.sample_pixels) / double(pixels);
+  std::vector<std::size_t> indices;
+  for (std::size_t i = 0; i < pixels; ++i)
+    if (InSample(i, fraction, options.pooled.seed)) indices.push_back(i);
+  if (options.progress)
+    std::fprintf(stderr, "reconstruct: reading %zu sample pixels\n", indices.size());
+  return source.Pixels(indices, options.band_rows);
 }
 
 }  // namespace

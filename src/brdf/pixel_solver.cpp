@@ -20,6 +20,31 @@ void PixelObservations::Resize(int p, int v) {
   rgb.assign(std::size_t(p) * v * 3, std::numeric_limits<float>::quiet_NaN());
 }
 
+PixelObservations ObservationSource::Pixels(const std::vector<std::size_t>& indices,
+                                            int band_rows) {
+  const int w = Width(), h = Height();
+  PixelObservations out;
+  std::size_t next = 0;
+  for (int y0 = 0; y0 < h && next < indices.size(); y0 += band_rows) {
+    const int rows = std::min(band_rows, h - y0);
+    const std::size_t end = std::size_t(y0 + rows) * w;
+    if (indices[next] >= end) continue;  // no pixel wanted in this band
+    const PixelObservations obs = Rows(y0, rows);
+    out.views = obs.views;
+    for (; next < indices.size() && indices[next] < end; ++next) {
+      const int p = int(indices[next] - std::size_t(y0) * w);
+      for (int v = 0; v < obs.views; ++v) {
+        const std::size_t i = obs.At(p, v);
+        out.light.push_back(obs.light[i]);
+        out.camera.push_back(obs.camera[i]);
+        out.rgb.insert(out.rgb.end(), &obs.rgb[3 * i], &obs.rgb[3 * i] + 3);
+      }
+      ++out.pixels;
+    }
+  }
+  return out;
+}
+
 void PixelSolution::Resize(int pixels, int k) {
   components = k;
   coefficients.assign(std::size_t(pixels) * 3 * k, 0.0f);

@@ -40,6 +40,10 @@ class ObservationSource {
   virtual std::string Describe() const = 0;
   // Observations of rows [y0, y0 + rows), pixel (x, y) at index (y - y0) * Width() + x.
   virtual PixelObservations Rows(int y0, int rows) = 0;
+  // Observations of the given pixels (y * Width() + x, increasing), in that order: by default
+  // read band by band through Rows; a source that can reach single pixels cheaply overrides it
+  // (the pooled reconstruction's sample is a few thousand pixels of millions).
+  virtual PixelObservations Pixels(const std::vector<std::size_t>& indices, int band_rows);
 };
 
 // The condition number of rows Q from their normal matrix Q^T Q (lower triangle used), as the
