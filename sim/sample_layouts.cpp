@@ -52,6 +52,12 @@ class MixtureTable {
   std::vector<Mixture> mixtures_;
 };
 
+// "pixel (x, y)" of a row-major index, for errors.
+std::string PixelName(std::size_t index, int width) {
+  return "pixel (" + std::to_string(index % std::size_t(width)) + ", " +
+         std::to_string(index / std::size_t(width)) + ")";
+}
+
 SyntheticSvbrdf EmptyLayout(int width, int height, double size_mm) {
   SyntheticSvbrdf s;
   s.width = width;
@@ -237,9 +243,8 @@ MixedSample ReadSampleLabels(const std::string& path, int materials, double size
   for (std::size_t p = 0; p < labels.size(); ++p) {
     if (labels[p] < 0 || labels[p] >= materials)
       throw UserError(path,
-                      "pixel (" + std::to_string(p % width) + ", " + std::to_string(p / width) +
-                          ") has label " + std::to_string(labels[p]) + " but only " +
-                          std::to_string(materials) + " materials are given",
+                      PixelName(p, width) + " has label " + std::to_string(labels[p]) +
+                          " but only " + std::to_string(materials) + " materials are given",
                       "give one material per label value, in order (--materials)");
     s.layout.label[p] = std::uint8_t(labels[p]);
   }
@@ -260,19 +265,16 @@ MixedSample ReadSampleWeights(const std::string& path, const std::vector<std::st
     double total = 0;
     for (std::size_t i = 0; i < planes.size(); ++i) {
       const double w = (*planes[i])[p];
-      const std::string at =
-          "pixel (" + std::to_string(p % f.width) + ", " + std::to_string(p / f.width) + ")";
       if (!(w >= 0))
-        throw UserError(path, at + ": the weight of " + materials[i] + " is " + std::to_string(w) +
-                                  "; weights must be >= 0");
+        throw UserError(path, PixelName(p, f.width) + ": the weight of " + materials[i] + " is " +
+                                  std::to_string(w) + "; weights must be >= 0");
       total += w;
       m.push_back({int(i), w});
     }
     if (std::abs(total - 1) > 0.01)
-      throw UserError(path,
-                      "pixel (" + std::to_string(p % f.width) + ", " + std::to_string(p / f.width) +
-                          "): the weights sum to " + std::to_string(total) + ", not 1",
-                      "normalise the weights per pixel");
+      throw UserError(
+          path, PixelName(p, f.width) + ": the weights sum to " + std::to_string(total) + ", not 1",
+          "normalise the weights per pixel");
     s.layout.label[p] = table.Label(m);
   }
   s.mixtures = table.Take();

@@ -72,13 +72,13 @@ ReconstructionReport Reconstruct(const BasisView& basis, ObservationSource& sour
   const int w = source.Width(), h = source.Height();
   ReconstructionReport report;
   report.method = options.method;
-  if (options.method == ReconstructionMethod::kPooled) {
+  const bool pooled = options.method == ReconstructionMethod::kPooled;
+  if (pooled) {
     report.model =
         FitPooledModel(basis, ReadSample(source, options), options.solve, options.pooled);
     report.model_seconds = std::chrono::duration<double>(Clock::now() - start).count();
     info.model = report.model.Summary();
   }
-  const bool pooled = options.method == ReconstructionMethod::kPooled;
   const int k = pooled ? report.model.components : options.solve.components;
   info.method = ReconstructionMethodName(options.method);
   info.width = w;

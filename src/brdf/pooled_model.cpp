@@ -29,8 +29,6 @@ void PooledOptions::Check() const {
   if (max_groups < 1 || max_groups > 1024) throw UserError("--max-groups", "must be in [1, 1024]");
   if (sample_pixels < 64 || sample_pixels > (1 << 20))
     throw UserError("--sample-pixels", "must be in [64, 1048576]");
-  if (max_centre_components < 0)
-    throw UserError("--max-centre-components", "must be >= 0 (0: all the basis stores)");
 }
 
 void PooledModel::Feature(const float* c, int k, double* feature) const {
@@ -203,18 +201,34 @@ double SquaredDistance(const std::vector<double>& a, const std::vector<double>& 
   return s;
 }
 
+// Each group's mean feature over the pixels labelled with it, and (optional) its pixel count.
+std::vector<std::vector<double>> GroupMeans(const std::vector<SamplePixel>& pixels,
+                                            const std::vector<int>& label, int groups,
+                                            std::vector<int>* count = nullptr) {
+  std::vector<std::vector<double>> mean(groups, std::vector<double>(pixels[0].feature.size(), 0));
+  std::vector<int> n(groups, 0);
+  for (std::size_t i = 0; i < pixels.size(); ++i) {
+    ++n[label[i]];
+    for (std::size_t j = 0; j < mean[0].size(); ++j) mean[label[i]][j] += pixels[i].feature[j];
+  }
+  for (int g = 0; g < groups; ++g)
+    for (double& v : mean[g]) v /= std::max(n[g], 1);
+  if (count) *count = std::move(n);
+  return mean;
+}
+
 // k-means++ seeding, then Lloyd's iterations until no pixel changes group (at most 50); an
 // emptied group is re-seeded at the pixel farthest from its centroid. Deterministic for a seed.
-std::vector<int> KMeans(const std::vector<SamplePixel>& pixels, int groups, std::uint64_t seed,
-                        std::vector<std::vector<double>>* centroids) {
+std::vector<int> KMeans(const std::vector<SamplePixel>& pixels, int groups, std::uint64_t seed) {
   const int n = int(pixels.size());
   std::mt19937_64 rng(seed);
-  centroids->assign(1, pixels[std::uniform_int_distribution<int>(0, n - 1)(rng)].feature);
+  std::vector<std::vector<double>> centroids(
+      1, pixels[std::uniform_int_distribution<int>(0, n - 1)(rng)].feature);
   std::vector<double> nearest(n, std::numeric_limits<double>::infinity());
-  while (int(centroids->size()) < groups) {
+  while (int(centroids.size()) < groups) {
     double total = 0;
     for (int i = 0; i < n; ++i) {
-      nearest[i] = std::min(nearest[i], SquaredDistance(pixels[i].feature, centroids->back()));
+      nearest[i] = std::min(nearest[i], SquaredDistance(pixels[i].feature, centroids.back()));
       total += nearest[i];
     }
     double pick = std::uniform_real_distribution<double>(0, total)(rng);
@@ -224,7 +238,7 @@ std::vector<int> KMeans(const std::vector<SamplePixel>& pixels, int groups, std:
         chosen = i;
         break;
       }
-    centroids->push_back(pixels[chosen].feature);
+    centroids.push_back(pixels[chosen].feature);
   }
   std::vector<int> label(n, -1);
   for (int iteration = 0; iteration < 50; ++iteration) {
@@ -234,33 +248,28 @@ std::vector<int> KMeans(const std::vector<SamplePixel>& pixels, int groups, std:
       int best = 0;
       double best_d = std::numeric_limits<double>::infinity();
       for (int g = 0; g < groups; ++g) {
-        const double d = SquaredDistance(pixels[i].feature, (*centroids)[g]);
+        const double d = SquaredDistance(pixels[i].feature, centroids[g]);
         if (d < best_d) best_d = d, best = g;
       }
       changed = changed || best != label[i];
       label[i] = best;
     }
     if (!changed) break;
-    std::vector<std::vector<double>> sum(groups, std::vector<double>(pixels[0].feature.size()));
-    std::vector<int> count(groups, 0);
-    for (int i = 0; i < n; ++i) {
-      ++count[label[i]];
-      for (std::size_t j = 0; j < sum[0].size(); ++j) sum[label[i]][j] += pixels[i].feature[j];
-    }
+    std::vector<int> count;
+    std::vector<std::vector<double>> mean = GroupMeans(pixels, label, groups, &count);
     for (int g = 0; g < groups; ++g) {
-      if (count[g] == 0) {
-        int far = 0;
-        double far_d = -1;
-        for (int i = 0; i < n; ++i) {
-          const double d = SquaredDistance(pixels[i].feature, (*centroids)[label[i]]);
-          if (d > far_d) far_d = d, far = i;
-        }
-        (*centroids)[g] = pixels[far].feature;
-        label[far] = g;
+      if (count[g] > 0) {
+        centroids[g] = std::move(mean[g]);
         continue;
       }
-      for (double& v : sum[g]) v /= count[g];
-      (*centroids)[g] = sum[g];
+      int far = 0;
+      double far_d = -1;
+      for (int i = 0; i < n; ++i) {
+        const double d = SquaredDistance(pixels[i].feature, centroids[label[i]]);
+        if (d > far_d) far_d = d, far = i;
+      }
+      centroids[g] = pixels[far].feature;
+      label[far] = g;
     }
   }
   return label;
@@ -275,17 +284,9 @@ std::vector<int> KMeans(const std::vector<SamplePixel>& pixels, int groups, std:
 constexpr double kOverlap = 3.0;
 int MergeOverlapping(const std::vector<SamplePixel>& pixels, int groups, std::vector<int>* label) {
   for (;;) {
-    std::vector<std::vector<double>> mean(groups);
+    std::vector<int> count;
+    const std::vector<std::vector<double>> mean = GroupMeans(pixels, *label, groups, &count);
     std::vector<double> scatter(groups, 0);
-    std::vector<int> count(groups, 0);
-    for (int i = 0; i < int(pixels.size()); ++i) {
-      std::vector<double>& m = mean[(*label)[i]];
-      if (m.empty()) m.assign(pixels[i].feature.size(), 0);
-      for (std::size_t j = 0; j < m.size(); ++j) m[j] += pixels[i].feature[j];
-      ++count[(*label)[i]];
-    }
-    for (int g = 0; g < groups; ++g)
-      for (double& v : mean[g]) v /= count[g];
     for (int i = 0; i < int(pixels.size()); ++i)
       scatter[(*label)[i]] += SquaredDistance(pixels[i].feature, mean[(*label)[i]]);
     for (int g = 0; g < groups; ++g) scatter[g] = count[g] ? std::sqrt(scatter[g] / count[g]) : 0;
@@ -447,9 +448,7 @@ PooledModel FitPooledModel(const BasisView& basis, const PixelObservations& samp
   solve.Check(basis);
   options.Check();
   const int k = solve.components;
-  const int K = std::max(k, options.max_centre_components > 0
-                                ? std::min(options.max_centre_components, basis.components)
-                                : basis.components);
+  const int K = basis.components;  // k_c is chosen up to every component the basis stores
   PooledModel model;
   model.components = K;
   model.features = std::min(k, kFeatureComponents);
@@ -482,18 +481,14 @@ PooledModel FitPooledModel(const BasisView& basis, const PixelObservations& samp
     for (int g : {1, 2, 3, 4, 6, 8, 12, 16, 24, 32, 48, 64, 96, 128, 192, 256})
       if (g <= options.max_groups && g * 8 <= int(pixels.size())) tried.push_back(g);
   }
-  std::vector<std::vector<int>> labels;
-  std::vector<int> sizes;  // groups after merging
-  int chosen = -1, worse_in_a_row = 0;
+  std::vector<int> label;  // the best labelling so far, of `groups` groups
+  int groups = 0, previous = 0, worse_in_a_row = 0;
   double best = std::numeric_limits<double>::infinity();
   for (int seeded : tried) {
-    std::vector<std::vector<double>> centroids;
-    labels.push_back(KMeans(pixels, seeded, options.seed, &centroids));
-    const int groups =
-        options.groups > 0 ? seeded : MergeOverlapping(pixels, seeded, &labels.back());
-    sizes.push_back(groups);
+    std::vector<int> trial = KMeans(pixels, seeded, options.seed);
+    const int size = options.groups > 0 ? seeded : MergeOverlapping(pixels, seeded, &trial);
     double squared = 0;
-    for (const std::vector<int>& members : members_of(labels.back(), groups)) {
+    for (const std::vector<int>& members : members_of(trial, size)) {
       if (members.empty()) continue;
       const ViewStats stats(pixels, members, k, sample.views);
       GroupFit fit;
@@ -502,18 +497,19 @@ PooledModel FitPooledModel(const BasisView& basis, const PixelObservations& samp
       squared += fit.squared_error;
     }
     const double rms = Rms(squared, observations);
-    model.selection.push_back({groups, rms});
+    model.selection.push_back({size, rms});
     // A trial that merged back to a size already tried counts as one that did not earn its
     // keep; three of those in a row end the search.
-    const bool repeat = sizes.size() > 1 && groups <= sizes[sizes.size() - 2];
+    const bool repeat = previous > 0 && size <= previous;
+    previous = size;
     if (!repeat && rms < best * (1 - kGroupTolerance)) {
-      best = rms, chosen = int(labels.size()) - 1, worse_in_a_row = 0;
+      best = rms, label = std::move(trial), groups = size, worse_in_a_row = 0;
     } else if (++worse_in_a_row == 3) {
       break;
     }
   }
-  const int groups = sizes[chosen];
-  const std::vector<std::vector<int>> members = members_of(labels[chosen], groups);
+  const std::vector<std::vector<int>> members = members_of(label, groups);
+  const std::vector<std::vector<double>> features = GroupMeans(pixels, label, groups);
   double squared = 0;
   for (int g = 0; g < groups; ++g) {
     if (members[g].empty()) continue;
@@ -523,10 +519,7 @@ PooledModel FitPooledModel(const BasisView& basis, const PixelObservations& samp
     fit.centre = stats.Centre(fit.centre_components, solve.eta);
     ChooseStrength(pixels, members[g], stats, solve.eta, grid, &fit);
     PooledGroup group;
-    group.feature.assign(pixels[0].feature.size(), 0.0);  // the members' mean
-    for (int i : members[g])
-      for (std::size_t j = 0; j < group.feature.size(); ++j)
-        group.feature[j] += pixels[i].feature[j] / double(members[g].size());
+    group.feature = features[g];
     group.centre.resize(3 * K);
     for (int ch = 0; ch < 3; ++ch)
       for (int j = 0; j < K; ++j) group.centre[ch * K + j] = float(fit.centre(j, ch));

@@ -35,12 +35,11 @@ const char* ReconstructionMethodName(ReconstructionMethod method);
 std::optional<ReconstructionMethod> ParseReconstructionMethod(const std::string& name);
 
 struct PooledOptions {
-  int groups = 0;                 // 0: chosen by held-out views; > 0: forced
-  int max_groups = 64;            // the largest G tried
-  int sample_pixels = 8192;       // pixels the model is fitted on (spread over the image)
-  int max_centre_components = 0;  // largest k_c tried; 0: every component the basis stores
-  std::uint64_t seed = 1;         // k-means++ seeding and the sample's choice
-  void Check() const;             // throws UserError
+  int groups = 0;            // 0: chosen by held-out views; > 0: forced
+  int max_groups = 64;       // the largest G tried
+  int sample_pixels = 8192;  // pixels the model is fitted on (spread over the image)
+  std::uint64_t seed = 1;    // k-means++ seeding and the sample's choice
+  void Check() const;        // throws UserError
 };
 
 struct PooledGroup {

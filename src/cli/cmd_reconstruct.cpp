@@ -221,13 +221,13 @@ int ReconstructSynthetic(const Argv& argv) {
         "score: median per-pixel log-space RMSE against the ground truth: %.4f (%ld pixels x 3 "
         "channels; %.4f over the %ld valid)\n",
         score.median_log_rmse, score.pixels, score.median_log_rmse_valid, score.valid);
+    // Which groups each material's pixels went to (the pooled reconstruction's diagnostics).
+    std::vector<std::map<int, long>> groups(sample_names.size());
+    for (std::size_t p = 0; p < labels.size(); ++p)
+      ++groups[labels[p]][int(map.Plane("group", int(p) % w, int(p) / w))];
     for (std::size_t m = 0; m < sample_names.size(); ++m) {
-      // Which groups the material's pixels went to (the pooled reconstruction's diagnostics).
-      std::map<int, long> groups;
-      for (std::size_t p = 0; p < labels.size(); ++p)
-        if (labels[p] == int(m)) ++groups[int(map.planes[map.planes.size() - 2][p])];
       std::string in;
-      for (const auto& [g, n] : groups)
+      for (const auto& [g, n] : groups[m])
         in += " " + (g < 0 ? std::string("alone") : "g" + std::to_string(g)) + ":" +
               std::to_string(n);
       std::printf("score: material %s median per-pixel log-space RMSE %.4f;%s\n",
