@@ -51,6 +51,8 @@ struct PooledPixel {
   RidgeFit alone, pooled;
   std::vector<float> coefficients;
   std::vector<double> feature;
+  std::vector<std::pair<double, int>> near;  // (feature distance, group)
+  Eigen::MatrixXd candidate;
 
   void Solve(const BasisView& basis, const PixelObservations& obs, int p, const PooledModel& model,
              const Centres& centres, const PixelSolveOptions& options, PixelSolution* solution,
@@ -88,11 +90,10 @@ struct PooledPixel {
       for (int j = 0; j < k; ++j) coefficients[ch * K + j] = float(alone.c(j, ch));
 
     double centre_misfit = 0;
-    const int g = NearestGroup(model, centres, qn, yn, &centre_misfit);
+    const int g = NearestGroup(model, centres, qn, yn, &centre_misfit);  // sets y_centre
     const Eigen::MatrixXd* residual = &alone.r;
     if (g >= 0) {
       const PooledGroup& group = model.groups[g];
-      y_centre = yn - qn * centres.coefficients[g];
       if (std::isinf(group.strength)) {  // the centre itself: nothing left to solve
         pooled.c.setZero(k, 3);
         pooled.r = y_centre;
@@ -131,7 +132,8 @@ struct PooledPixel {
   }
 
   // The group whose centre explains the observations best, among the kCandidateGroups nearest
-  // to the pixel's independent solve in feature space; -1 without groups.
+  // to the pixel's independent solve in feature space; -1 without groups. Leaves the
+  // observations less that centre's prediction in y_centre.
   int NearestGroup(const PooledModel& model, const Centres& centres,
                    const Eigen::Ref<const PixelRowMatrix>& qn, const Eigen::MatrixXd& yn,
                    double* rms_misfit) {
@@ -139,7 +141,7 @@ struct PooledPixel {
     if (groups == 0) return -1;
     feature.resize(3 * model.features);
     model.Feature(coefficients.data(), model.components, feature.data());
-    std::vector<std::pair<double, int>> near;
+    near.clear();
     for (int g = 0; g < groups; ++g) {
       double d = 0;
       for (std::size_t i = 0; i < feature.size(); ++i) {
@@ -154,8 +156,9 @@ struct PooledPixel {
     double best_misfit = std::numeric_limits<double>::infinity();
     for (int i = 0; i < m; ++i) {
       const int g = near[i].second;
-      const double misfit = (yn - qn * centres.coefficients[g]).squaredNorm();
-      if (misfit < best_misfit) best_misfit = misfit, best = g;
+      candidate = yn - qn * centres.coefficients[g];
+      const double misfit = candidate.squaredNorm();
+      if (misfit < best_misfit) best_misfit = misfit, best = g, y_centre.swap(candidate);
     }
     *rms_misfit = std::sqrt(best_misfit / (3.0 * double(yn.rows())));
     return best;
