@@ -8,6 +8,8 @@ tools/setup.sh
 ninja -C build
 tools/check-format.sh
 rc=0
+# The export test's tools are set up above: their absence is a failure here, not a skip.
+export ACQ_REQUIRE_EXPORT_TOOLS=1
 meson test -C build --print-errorlogs --num-processes 2 "$@" | tee build/meson-test.out || rc=$?
 # One plain closing line that any reader of test output understands.
 ok=$(awk '/^Ok:/ {print $2}' build/meson-test.out)

@@ -15,6 +15,9 @@ packages=(
   python3 python3-numpy python3-h5py python3-matplotlib python3-mrcal python3-opencv
   # peak-memory measurement in benchmarks
   time
+  # the renderer exports' tools (docs/export.md): a virtual environment for Mitsuba 3 and
+  # MaterialX, the LLVM that Mitsuba 3.9's llvm variants need, node for the glTF validator
+  python3-venv libllvm19
 )
 
 sudo_cmd=()
@@ -24,11 +27,15 @@ missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
 done
+# node and npm: Debian's, unless a node with npm is there already (e.g. from nodesource, whose
+# nodejs package conflicts with Debian's npm).
+command -v npm >/dev/null 2>&1 || missing+=(nodejs npm)
 if [ ${#missing[@]} -eq 0 ]; then
   echo "setup: all ${#packages[@]} packages already installed"
-  exit 0
+else
+  echo "setup: installing ${#missing[@]} packages: ${missing[*]}"
+  export DEBIAN_FRONTEND=noninteractive
+  "${sudo_cmd[@]}" apt-get update -qq
+  "${sudo_cmd[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}"
 fi
-echo "setup: installing ${#missing[@]} packages: ${missing[*]}"
-export DEBIAN_FRONTEND=noninteractive
-"${sudo_cmd[@]}" apt-get update -qq
-"${sudo_cmd[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}"
+"$(dirname "$0")/setup-renderers.sh"

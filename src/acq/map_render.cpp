@@ -8,6 +8,7 @@
 
 #include "core/colour.h"
 #include "core/error.h"
+#include "io/float_planes_exr.h"
 
 namespace acq {
 namespace {
@@ -182,6 +183,20 @@ void WriteGroupPng(const SvbrdfMap& map, const std::string& path) {
 }
 
 }  // namespace
+
+void WriteRgbExr(const RgbImage& image, const std::string& path) {
+  FloatPlanes planes;
+  planes.width = image.width;
+  planes.height = image.height;
+  const char* names[3] = {"R", "G", "B"};
+  const std::size_t pixels = std::size_t(image.width) * std::size_t(image.height);
+  for (int c = 0; c < 3; ++c) {
+    std::vector<float>& plane = planes.planes[names[c]];
+    plane.resize(pixels);
+    for (std::size_t p = 0; p < pixels; ++p) plane[p] = image.rgb[3 * p + c];
+  }
+  WriteFloatPlanesExr(path, planes);
+}
 
 void WriteDiagnosticPng(const SvbrdfMap& map, const std::string& plane, const std::string& path) {
   if (plane == "group") return WriteGroupPng(map, path);

@@ -47,6 +47,9 @@ RowLookup MapRowLookup(const SvbrdfMap& map);
 // percentile maps to 0.9. Throws UserError naming the file when it cannot be written.
 void WritePng(const RgbImage& image, const std::string& path, double exposure = 0);
 
+// Linear image to a float EXR (planes R, G, B), for comparisons with other renderers.
+void WriteRgbExr(const RgbImage& image, const std::string& path);
+
 // The map's per-pixel diagnostics as a grey PNG: `plane` in valid, observations, condition
 // (log10), residual, departure; scaled to its own range. "group": a colour per group, black for
 // pixels solved alone.

@@ -5,19 +5,27 @@
 #include "brdf/evaluation.h"
 #include "core/colour.h"
 #include "core/error.h"
+#include "io/float_planes_exr.h"
 
 namespace acq {
 
-ValidationResult CompareWithCapture(const SvbrdfMap& map, const BasisView& basis, SessionView view,
-                                    RowLookup lookup) {
-  ValidationResult result;
-  result.name = view.name;
-  const int w = map.info.width, h = map.info.height, k = map.info.components;
+PixelBrdf MapPixelBrdf(const SvbrdfMap& map, const BasisView& basis, RowLookup lookup) {
+  return
+      [&map, &basis, lookup](int x, int y, const Eigen::Vector3d& in, const Eigen::Vector3d& out) {
+        const std::vector<float> c = PixelCoefficients(map, x, y);
+        return BrdfFromCoefficients(basis, c.data(), map.info.components, in, out, lookup);
+      };
+}
+
+ValidationData CaptureOfView(const SvbrdfMap& map, SessionView view) {
+  ValidationData data;
+  data.name = view.name;
+  const int w = map.info.width, h = map.info.height;
   std::vector<SessionView> one;
   one.push_back(std::move(view));
   CorrespondenceSource source(std::move(one), map.info.pixel_size_mm);
   if (source.Width() != w || source.Height() != h)
-    throw UserError(result.name,
+    throw UserError(data.name,
                     "the validation view's correspondence map is " +
                         std::to_string(source.Width()) + " x " + std::to_string(source.Height()) +
                         ", the SVBRDF map " + std::to_string(w) + " x " + std::to_string(h),
@@ -26,34 +34,56 @@ ValidationResult CompareWithCapture(const SvbrdfMap& map, const BasisView& basis
   // reconstruction used.
   const PixelObservations obs = source.Rows(0, h);
   const std::size_t pixels = std::size_t(w) * std::size_t(h);
+  data.width = w;
+  data.height = h;
+  data.captured.assign(pixels * 3, 0.0f);
+  data.light.assign(pixels * 3, 0.0f);
+  data.camera.assign(pixels * 3, 0.0f);
+  data.compared.assign(pixels, 0);
+  for (std::size_t p = 0; p < pixels; ++p) {
+    const std::size_t o = obs.At(int(p), 0);
+    const float* rgb = &obs.rgb[3 * o];
+    // As the solver: an observation counts only with all three channels.
+    if (map.Plane("valid", int(p % w), int(p / w)) == 0 ||
+        !(std::isfinite(rgb[0]) && std::isfinite(rgb[1]) && std::isfinite(rgb[2])))
+      continue;
+    const double cos_in = std::max(double(obs.light[o].z()), 0.0);
+    for (int ch = 0; ch < 3; ++ch) {
+      data.captured[3 * p + ch] = float(rgb[ch] * cos_in);
+      data.light[3 * p + ch] = obs.light[o][ch];
+      data.camera[3 * p + ch] = obs.camera[o][ch];
+    }
+    data.compared[p] = 1;
+  }
+  return data;
+}
+
+ValidationResult Compare(const ValidationData& data, const PixelBrdf& brdf) {
+  ValidationResult result;
+  result.name = data.name;
+  const int w = data.width, h = data.height;
+  const std::size_t pixels = std::size_t(w) * std::size_t(h);
   result.predicted = {w, h, std::vector<float>(pixels * 3, 0.0f)};
   result.captured = result.predicted;
-  std::vector<char> compared(pixels, 0);
 #pragma omp parallel for schedule(dynamic, 4)
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x) {
       const std::size_t p = std::size_t(y) * w + x;
-      const float* rgb = &obs.rgb[3 * obs.At(int(p), 0)];
-      // As the solver: an observation counts only with all three channels.
-      if (map.Plane("valid", x, y) == 0 ||
-          !(std::isfinite(rgb[0]) && std::isfinite(rgb[1]) && std::isfinite(rgb[2])))
-        continue;
-      const Eigen::Vector3d in = obs.light[obs.At(int(p), 0)].cast<double>();
-      const Eigen::Vector3d out = obs.camera[obs.At(int(p), 0)].cast<double>();
-      const std::vector<float> c = PixelCoefficients(map, x, y);
-      const auto rho = BrdfFromCoefficients(basis, c.data(), k, in, out, lookup);
+      if (!data.compared[p]) continue;
+      const Eigen::Vector3d in(data.light[3 * p], data.light[3 * p + 1], data.light[3 * p + 2]);
+      const Eigen::Vector3d out(data.camera[3 * p], data.camera[3 * p + 1], data.camera[3 * p + 2]);
+      const auto rho = brdf(x, y, in, out);
       const double cos_in = std::max(in.z(), 0.0);
       for (int ch = 0; ch < 3; ++ch) {
         result.predicted.rgb[3 * p + ch] = float(rho[ch] * cos_in);
-        result.captured.rgb[3 * p + ch] = float(rgb[ch] * cos_in);
+        result.captured.rgb[3 * p + ch] = data.captured[3 * p + ch];
       }
-      compared[p] = 1;
     }
   double diff2 = 0, ref2 = 0;
   std::vector<double> relative, delta_e;
   constexpr double kPi = 3.14159265358979323846;
   for (std::size_t p = 0; p < pixels; ++p) {
-    if (!compared[p]) continue;
+    if (!data.compared[p]) continue;
     for (int ch = 0; ch < 3; ++ch) {
       const double a = result.predicted.rgb[3 * p + ch], b = result.captured.rgb[3 * p + ch];
       diff2 += (a - b) * (a - b);
@@ -70,6 +100,62 @@ ValidationResult CompareWithCapture(const SvbrdfMap& map, const BasisView& basis
   result.relative_rms = ref2 > 0 ? std::sqrt(diff2 / ref2) : 0;
   result.median_relative = relative.empty() ? 0 : Median(relative);
   return result;
+}
+
+ValidationResult CompareWithCapture(const SvbrdfMap& map, const BasisView& basis, SessionView view,
+                                    RowLookup lookup) {
+  return Compare(CaptureOfView(map, std::move(view)), MapPixelBrdf(map, basis, lookup));
+}
+
+namespace {
+
+constexpr const char* kValidationPlanes[3][3] = {{"captured.R", "captured.G", "captured.B"},
+                                                 {"light.x", "light.y", "light.z"},
+                                                 {"camera.x", "camera.y", "camera.z"}};
+
+}  // namespace
+
+void WriteValidationData(const ValidationData& data, const std::string& path) {
+  FloatPlanes f;
+  f.width = data.width;
+  f.height = data.height;
+  const std::size_t pixels = std::size_t(data.width) * std::size_t(data.height);
+  const std::vector<float>* sources[3] = {&data.captured, &data.light, &data.camera};
+  for (int s = 0; s < 3; ++s)
+    for (int c = 0; c < 3; ++c) {
+      std::vector<float>& plane = f.planes[kValidationPlanes[s][c]];
+      plane.resize(pixels);
+      for (std::size_t p = 0; p < pixels; ++p) plane[p] = (*sources[s])[3 * p + c];
+    }
+  std::vector<float>& compared = f.planes["compared"];
+  compared.assign(data.compared.begin(), data.compared.end());
+  f.attributes["acqValidationView"] = data.name;
+  WriteFloatPlanesExr(path, f);
+}
+
+ValidationData ReadValidationData(const std::string& path) {
+  const FloatPlanes f = ReadFloatPlanesExr(path);
+  ValidationData data;
+  const auto name = f.attributes.find("acqValidationView");
+  if (name == f.attributes.end())
+    throw UserError(path, "is not a validation view's data (no acqValidationView attribute)",
+                    "give a renders/validation_NNN.exr written by the session's processing");
+  data.name = name->second;
+  data.width = f.width;
+  data.height = f.height;
+  const std::size_t pixels = std::size_t(f.width) * std::size_t(f.height);
+  std::vector<float>* targets[3] = {&data.captured, &data.light, &data.camera};
+  for (int s = 0; s < 3; ++s) {
+    targets[s]->resize(3 * pixels);
+    for (int c = 0; c < 3; ++c) {
+      const std::vector<float>& plane = f.Plane(kValidationPlanes[s][c], path);
+      for (std::size_t p = 0; p < pixels; ++p) (*targets[s])[3 * p + c] = plane[p];
+    }
+  }
+  const std::vector<float>& compared = f.Plane("compared", path);
+  data.compared.resize(pixels);
+  for (std::size_t p = 0; p < pixels; ++p) data.compared[p] = compared[p] > 0.5f;
+  return data;
 }
 
 }  // namespace acq

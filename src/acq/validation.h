@@ -5,7 +5,12 @@
 // view directions it really had in that view (its correspondence map).
 #pragma once
 
+#include <Eigen/Core>
+#include <array>
+#include <cstdint>
+#include <functional>
 #include <string>
+#include <vector>
 
 #include "acq/correspondence_source.h"
 #include "acq/map_render.h"
@@ -26,8 +31,32 @@ struct ValidationResult {
   RgbImage predicted, captured;  // rho cos(theta_i), reference pixels; 0 where not compared
 };
 
+// What a validation view showed, in reference-view pixels: the capture as rho cos(theta_i),
+// and each pixel's true light and camera directions (sample frame); any model of the sample
+// (the map, the analytic maps fitted to it) is compared with it. Kept beside the session's
+// renders (renders/validation_NNN.exr) so that a model made later is checked on the same data.
+struct ValidationData {
+  std::string name;
+  int width = 0, height = 0;
+  std::vector<float> captured;         // 3 a pixel
+  std::vector<float> light, camera;    // unit vectors, 3 a pixel
+  std::vector<std::uint8_t> compared;  // 1: valid in the map and all three channels usable
+};
+
+// A model's BRDF (1/sr, R G B) at reference pixel (x, y) for directions in the sample frame.
+using PixelBrdf = std::function<std::array<double, 3>(int x, int y, const Eigen::Vector3d& in,
+                                                      const Eigen::Vector3d& out)>;
+PixelBrdf MapPixelBrdf(const SvbrdfMap& map, const BasisView& basis, RowLookup lookup);
+
 // Throws UserError when the view's maps do not match the map's size.
+ValidationData CaptureOfView(const SvbrdfMap& map, SessionView view);
+ValidationResult Compare(const ValidationData& data, const PixelBrdf& brdf);
 ValidationResult CompareWithCapture(const SvbrdfMap& map, const BasisView& basis, SessionView view,
                                     RowLookup lookup);
+
+// The planes captured.{R,G,B}, light.{x,y,z}, camera.{x,y,z} and compared; the name as an
+// attribute. Reading names the file and what is missing when it is not such a file.
+void WriteValidationData(const ValidationData& data, const std::string& path);
+ValidationData ReadValidationData(const std::string& path);
 
 }  // namespace acq

@@ -87,6 +87,21 @@ const std::map<std::string, Command>& Commands() {
         "  built-in sample of the materials (blend, marble and text use the first two); a label\n"
         "  image holds each pixel's index into --materials, a weight image one channel per\n"
         "  material, named as it, summing to one (docs/reconstruction.md)."}},
+      {"export pbr",
+       {ExportPbr,
+        "acq export pbr --map MAP.exr -o DIR [--basis BASIS] [--session SESSION] [--name NAME]\n"
+        "    [--roughness-steps 16] [--max-iterations 30] [--quiet]\n"
+        "  Fits Lambert + GGX (Schlick F0 colour) to every pixel's BRDF in the method's log\n"
+        "  space; writes glTF 2.0 (material.gltf), MaterialX (material.mtlx), their textures, the\n"
+        "  fit's error map and fit.json. --session: the fitted and the measured map against the\n"
+        "  session's validation views, and the fit's error per true material in simulation."}},
+      {"export mitsuba",
+       {ExportMitsuba,
+        "acq export mitsuba --map MAP.exr -o DIR [--basis BASIS] [--light-theta-deg 30\n"
+        "    --light-phi-deg 0] [--camera-theta-deg 0 --camera-phi-deg 0]\n"
+        "    [--camera-distance-mm 1000] [--light-distance-mm 1000]\n"
+        "  A Mitsuba 3 scene of the sample with a BSDF plugin evaluating the data-driven map per\n"
+        "  texel; render with .venv/bin/python DIR/render.py (docs/export.md)."}},
       {"render quicklook",
        {RenderQuicklook,
         "acq render quicklook --map MAP.exr -o DIR [--basis BASIS]\n"

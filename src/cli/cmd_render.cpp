@@ -7,29 +7,12 @@
 #include "cli/args.h"
 #include "cli/commands.h"
 #include "cli/geometry_args.h"
+#include "cli/map_and_basis.h"
 #include "core/angles.h"
 #include "core/error.h"
 
 namespace acq::cli {
 namespace {
-
-// The map and the basis it names (or --basis); refuses a basis whose checksum differs.
-struct MapAndBasis {
-  SvbrdfMap map;
-  MappedBasis basis;
-};
-
-MapAndBasis Open(const Args& args) {
-  SvbrdfMap map = ReadSvbrdfMap(args.Required("map"));
-  const std::string basis_path = args.Get("basis", map.info.basis);
-  MappedBasis basis = MappedBasis::Open(basis_path);
-  if (basis.Checksum() != map.info.basis_crc32)
-    throw UserError(basis_path,
-                    "is not the basis the map was reconstructed with (checksum differs from the "
-                    "map's acqBasisCrc32)",
-                    "give --basis the file the map names: " + map.info.basis);
-  return {std::move(map), std::move(basis)};
-}
 
 std::vector<std::pair<int, int>> Pixels(const Args& args) {
   std::vector<std::pair<int, int>> out;
@@ -57,7 +40,7 @@ double DegArg(const Args& args, const std::string& name, double fallback) {
 
 int RenderQuicklook(const Argv& argv) {
   const Args args("acq render quicklook", argv, {"map", "basis", "o"}, {});
-  const MapAndBasis m = Open(args);
+  const MapAndBasis m = OpenMapAndBasis(args);
   const std::string dir = args.Required("o");
   std::filesystem::create_directories(dir);
   const RowLookup lookup = MapRowLookup(m.map);
@@ -82,25 +65,23 @@ int RenderQuicklook(const Argv& argv) {
 }
 
 int RenderView(const Argv& argv) {
-  std::set<std::string> valued = {"map",
-                                  "basis",
-                                  "o",
-                                  "light-theta-deg",
-                                  "light-phi-deg",
-                                  "camera-theta-deg",
-                                  "camera-phi-deg",
-                                  "exposure"};
+  std::set<std::string> valued = {"map", "basis", "o", "exposure"};
   valued.insert(kGeometryOptions.begin(), kGeometryOptions.end());
+  valued.insert(kArmOptions.begin(), kArmOptions.end());
   const Args args("acq render view", argv, valued, {});
   // Every option checked before any file is read.
-  const ArmAngles arms{DegArg(args, "light-theta-deg", 30), DegArg(args, "light-phi-deg", 0),
-                       DegArg(args, "camera-theta-deg", 0), DegArg(args, "camera-phi-deg", 0)};
+  const ArmAngles arms = ArmsFrom(args);
   NearFieldGeometry g = GeometriesFrom(args)[0];
   const double exposure = args.GetDouble("exposure", 0, 0, 1e12);
-  const MapAndBasis m = Open(args);
+  const MapAndBasis m = OpenMapAndBasis(args);
   const RgbImage img = RenderView(m.map, m.basis.View(), arms, g, MapRowLookup(m.map));
-  WritePng(img, args.Required("o"), exposure);
-  std::printf("wrote %s\n", args.Get("o").c_str());
+  const std::string out = args.Required("o");
+  if (out.size() > 4 && out.compare(out.size() - 4, 4, ".exr") == 0) {
+    WriteRgbExr(img, out);  // linear, for comparisons (the Mitsuba export's test)
+  } else {
+    WritePng(img, out, exposure);
+  }
+  std::printf("wrote %s\n", out.c_str());
   return 0;
 }
 
@@ -113,7 +94,7 @@ int RenderSpheres(const Argv& argv) {
   const Eigen::Vector3d light(std::sin(t) * std::cos(p), std::sin(t) * std::sin(p), std::cos(t));
   const int size = args.GetInt("size", 256, 8, 8192);
   const double exposure = args.GetDouble("exposure", 0, 0, 1e12);
-  const MapAndBasis m = Open(args);
+  const MapAndBasis m = OpenMapAndBasis(args);
   const RgbImage img =
       RenderSpheres(m.map, m.basis.View(), Pixels(args), light, size, MapRowLookup(m.map));
   WritePng(img, args.Required("o"), exposure);
@@ -123,7 +104,7 @@ int RenderSpheres(const Argv& argv) {
 
 int RenderExport(const Argv& argv) {
   const Args args("acq render export", argv, {"map", "basis", "o", "pixel"}, {});
-  const MapAndBasis m = Open(args);
+  const MapAndBasis m = OpenMapAndBasis(args);
   const auto pixels = Pixels(args);
   if (pixels.size() != 1) throw UserError("--pixel", "export one pixel at a time");
   WriteMerlBinary(PixelAsMerl(m.map, m.basis.View(), pixels[0].first, pixels[0].second),

@@ -20,6 +20,8 @@ int DirectionsPlan(const Argv& args);
 int ReconstructSynthetic(const Argv& args);
 int RenderQuicklook(const Argv& args);
 int RenderView(const Argv& args);
+int ExportPbr(const Argv& args);
+int ExportMitsuba(const Argv& args);
 int RenderSpheres(const Argv& args);
 int RenderExport(const Argv& args);
 int CalibrateDetect(const Argv& args);

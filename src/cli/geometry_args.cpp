@@ -7,6 +7,14 @@
 
 namespace acq::cli {
 
+ArmAngles ArmsFrom(const Args& args) {
+  auto deg = [&](const char* name, double fallback) {
+    return DegToRad(args.GetDouble(name, fallback, -360, 360));
+  };
+  return {deg("light-theta-deg", 30), deg("light-phi-deg", 0), deg("camera-theta-deg", 0),
+          deg("camera-phi-deg", 0)};
+}
+
 DirectionConstraints ConstraintsFrom(const Args& args) {
   DirectionConstraints c;
   c.enabled = !args.Has("unconstrained");

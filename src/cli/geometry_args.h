@@ -14,6 +14,12 @@ inline const std::set<std::string> kConstraintOptions = {
 inline const std::set<std::string> kGeometryOptions = {"fov-deg", "sample-size-mm",
                                                        "camera-distance-mm", "light-distance-mm"};
 
+// A light and camera arm pose: --light-theta-deg 30 --light-phi-deg 0 --camera-theta-deg 0
+// --camera-phi-deg 0 by default (the reference view, the light 30 degrees off).
+inline const std::set<std::string> kArmOptions = {"light-theta-deg", "light-phi-deg",
+                                                  "camera-theta-deg", "camera-phi-deg"};
+ArmAngles ArmsFrom(const Args& args);
+
 DirectionConstraints ConstraintsFrom(const Args& args);  // --unconstrained: horizon only
 
 // One geometry per --fov-deg value (a comma list; default 0), or one from --sample-size-mm.

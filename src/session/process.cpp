@@ -222,9 +222,13 @@ ProcessReport ProcessSession(const Plan& plan, SessionCatalog& catalog,
     const std::string name = checks[i].name;
     // Named by the validation pose it shows: a pose left out (its board not found) leaves a gap
     // in the numbers, never shifts the names of the others.
-    const std::string render = "renders/" + PoseName(Step::kValidation, checks[i].pose) + ".png";
+    const std::string stem = "renders/" + PoseName(Step::kValidation, checks[i].pose);
+    const std::string render = stem + ".png";
+    // The capture and its directions kept, for models made from the map later (acq export).
+    const ValidationData data = CaptureOfView(map, std::move(checks[i]));
+    WriteValidationData(data, dir + "/" + stem + ".exr");
     const ValidationResult r =
-        CompareWithCapture(map, mapped.View(), std::move(checks[i]), plan.reconstruction.lookup);
+        Compare(data, MapPixelBrdf(map, mapped.View(), plan.reconstruction.lookup));
     ValidationSummary s{name,  r.pixels, r.relative_rms, r.median_relative, r.median_delta_e2000,
                         render};
     WriteComparison(r, dir + "/" + s.render);

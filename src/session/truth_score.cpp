@@ -39,7 +39,10 @@ void ScoreMapAgainstTruth(const Plan& plan, const std::string& dir,
   error.width = report->process.reference_width;
   error.height = report->process.reference_height;
   error.planes["log_rmse"] = report->score.log_rmse;
-  error.attributes["meaning"] = "log-space RMSE against the true material; -1 off the card";
+  error.planes["label"].assign(labels.begin(), labels.end());
+  error.attributes["meaning"] =
+      "log_rmse: log-space RMSE against the true material, -1 off the card; label: the true "
+      "material's index in materials.tsv, -1 off the card";
   WriteFloatPlanesExr(dir + "/ground_truth/error.exr", error);
   std::vector<double> homogeneous;
   const std::vector<std::size_t> bins = BinsOf(plan.directions);

@@ -1,0 +1,116 @@
+#include "export/gltf_writer.h"
+
+#include <array>
+#include <cstring>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <vector>
+
+#include "core/error.h"
+#include "export/pbr_textures.h"
+
+namespace acq {
+namespace {
+
+// glTF's dielectric F0 at its default ior 1.5: ((1.5 - 1) / (1.5 + 1))^2.
+constexpr double kGltfDielectricF0 = 0.04;
+
+// The quad's interleaved-free buffer: positions, normals, UVs (float), then 6 indices (u16).
+struct Quad {
+  std::array<float, 12> positions;
+  std::array<float, 12> normals;
+  std::array<float, 8> uvs;
+  std::array<std::uint16_t, 6> indices{0, 1, 2, 0, 2, 3};  // counter-clockwise seen from +Y
+};
+
+Quad MakeQuad(double width_m, double height_m) {
+  Quad q;
+  // Corners in the sample's frame (x right, y down the map's rows), counter-clockwise seen from
+  // the normal; sample x -> glTF X, sample y -> glTF -Z, the sample's normal -> glTF +Y.
+  const double xs[4] = {-0.5, 0.5, 0.5, -0.5}, ys[4] = {-0.5, -0.5, 0.5, 0.5};
+  for (int i = 0; i < 4; ++i) {
+    const double x = xs[i] * width_m, y = ys[i] * height_m;
+    q.positions[3 * i] = float(x);
+    q.positions[3 * i + 1] = 0;
+    q.positions[3 * i + 2] = float(-y);
+    q.normals[3 * i] = 0, q.normals[3 * i + 1] = 1, q.normals[3 * i + 2] = 0;
+    q.uvs[2 * i] = float(xs[i] + 0.5);
+    q.uvs[2 * i + 1] = float(ys[i] + 0.5);
+  }
+  return q;
+}
+
+}  // namespace
+
+void WriteGltf(const std::string& dir, double width_mm, double height_mm, const std::string& name) {
+  using nlohmann::json;
+  const Quad q = MakeQuad(width_mm / 1000, height_mm / 1000);
+  const std::size_t pos = 0, nrm = sizeof(q.positions), uv = nrm + sizeof(q.normals);
+  const std::size_t idx = uv + sizeof(q.uvs), total = idx + sizeof(q.indices);
+  {
+    std::ofstream bin(dir + "/" + kGltfBuffer, std::ios::binary);
+    bin.write(reinterpret_cast<const char*>(q.positions.data()), sizeof(q.positions));
+    bin.write(reinterpret_cast<const char*>(q.normals.data()), sizeof(q.normals));
+    bin.write(reinterpret_cast<const char*>(q.uvs.data()), sizeof(q.uvs));
+    bin.write(reinterpret_cast<const char*>(q.indices.data()), sizeof(q.indices));
+    if (!bin) throw UserError(dir + "/" + kGltfBuffer, "could not be written", "check the folder");
+  }
+  const float hx = float(width_mm / 2000), hz = float(height_mm / 2000);
+  json gltf;
+  gltf["asset"] = {{"version", "2.0"}, {"generator", "acq export pbr"}};
+  gltf["extensionsUsed"] = json::array({"KHR_materials_specular"});
+  gltf["scene"] = 0;
+  gltf["scenes"] = json::array({{{"name", name}, {"nodes", json::array({0})}}});
+  gltf["nodes"] = json::array({{{"name", name}, {"mesh", 0}}});
+  json primitive = {{"attributes", {{"POSITION", 0}, {"NORMAL", 1}, {"TEXCOORD_0", 2}}},
+                    {"indices", 3},
+                    {"material", 0}};
+  gltf["meshes"] = json::array({{{"name", name}, {"primitives", json::array({primitive})}}});
+  gltf["buffers"] = json::array({{{"uri", kGltfBuffer}, {"byteLength", total}}});
+  auto view = [](std::size_t offset, std::size_t bytes, int target) {
+    return json{{"buffer", 0}, {"byteOffset", offset}, {"byteLength", bytes}, {"target", target}};
+  };
+  constexpr int kArrayBuffer = 34962, kElementArrayBuffer = 34963;
+  gltf["bufferViews"] = json::array(
+      {view(pos, sizeof(q.positions), kArrayBuffer), view(nrm, sizeof(q.normals), kArrayBuffer),
+       view(uv, sizeof(q.uvs), kArrayBuffer), view(idx, sizeof(q.indices), kElementArrayBuffer)});
+  constexpr int kFloat = 5126, kUnsignedShort = 5123;
+  auto accessor = [](int view, int type, int count, const char* kind) {
+    return json{{"bufferView", view}, {"componentType", type}, {"count", count}, {"type", kind}};
+  };
+  json position = accessor(0, kFloat, 4, "VEC3");
+  position["min"] = json::array({-hx, 0.0f, -hz});
+  position["max"] = json::array({hx, 0.0f, hz});
+  gltf["accessors"] =
+      json::array({position, accessor(1, kFloat, 4, "VEC3"), accessor(2, kFloat, 4, "VEC2"),
+                   accessor(3, kUnsignedShort, 6, "SCALAR")});
+  gltf["images"] = json::array({{{"uri", PbrTextureNames::kBaseColor}},
+                                {{"uri", PbrTextureNames::kMetallicRoughness}},
+                                {{"uri", PbrTextureNames::kSpecular}}});
+  // Nearest: one texel is one measured pixel, not to be blurred into its neighbours.
+  constexpr int kNearest = 9728, kClampToEdge = 33071;
+  gltf["samplers"] = json::array({{{"magFilter", kNearest},
+                                   {"minFilter", kNearest},
+                                   {"wrapS", kClampToEdge},
+                                   {"wrapT", kClampToEdge}}});
+  gltf["textures"] = json::array();
+  for (int i = 0; i < 3; ++i) gltf["textures"].push_back({{"sampler", 0}, {"source", i}});
+  const double f = 1 / kGltfDielectricF0;
+  json material = {{"name", name},
+                   {"pbrMetallicRoughness",
+                    {{"baseColorTexture", {{"index", 0}}},
+                     {"metallicRoughnessTexture", {{"index", 1}}},
+                     {"metallicFactor", 0.0},
+                     {"roughnessFactor", 1.0}}}};
+  material["extensions"]["KHR_materials_specular"] = {
+      {"specularFactor", 1.0},
+      {"specularColorFactor", json::array({f, f, f})},
+      {"specularColorTexture", {{"index", 2}}}};
+  gltf["materials"] = json::array({material});
+  const std::string path = dir + "/" + kGltfFile;
+  std::ofstream out(path);
+  out << gltf.dump(2) << "\n";
+  if (!out) throw UserError(path, "could not be written", "check the folder and the free space");
+}
+
+}  // namespace acq

@@ -1,0 +1,20 @@
+// The fitted maps as a MaterialX 1.39 document (material.mtlx; docs/export.md): a
+// standard_surface whose base colour, specular roughness, specular colour and IOR come from the
+// textures of pbr_textures.h. standard_surface's dielectric specular is tinted by a colour and
+// set by an IOR; the fitted F0 colour becomes the tint F0 / max(F0) and the IOR
+// (1 + sqrt(max F0)) / (1 - sqrt(max F0)), computed in the document's node graph, so the
+// reflectance at normal incidence is the fitted one. MaterialX's texture v = 0 is the image's
+// bottom row: a mesh takes v = 1 - v of glTF's quad.
+#pragma once
+
+#include <string>
+
+namespace acq {
+
+inline constexpr const char* kMaterialXFile = "material.mtlx";
+
+// `name`: the material's name (letters, digits and underscores are kept, others become '_').
+// Throws UserError naming the file when it cannot be written.
+void WriteMaterialX(const std::string& dir, const std::string& name);
+
+}  // namespace acq

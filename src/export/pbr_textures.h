@@ -1,0 +1,27 @@
+// The fitted analytic maps as the textures glTF and MaterialX reference (docs/export.md):
+//   basecolor.png           diffuse albedo, sRGB
+//   metallic_roughness.png  glTF's packing: G roughness, B metallic (0), R unused (255); linear
+//   specular.png            F0 colour, sRGB (glTF KHR_materials_specular's specularColorTexture)
+//   fit_error.exr           planes log_rmse, converged, valid (float, one a pixel)
+//   fit_error.png           log_rmse in grey (0 to the 99th percentile), red where not converged
+// Texture row 0 is the map's row 0 (glTF's v = 0 at the image's first row).
+#pragma once
+
+#include <string>
+
+#include "acq/pbr_maps.h"
+
+namespace acq {
+
+struct PbrTextureNames {
+  static constexpr const char* kBaseColor = "basecolor.png";
+  static constexpr const char* kMetallicRoughness = "metallic_roughness.png";
+  static constexpr const char* kSpecular = "specular.png";
+  static constexpr const char* kFitError = "fit_error.exr";
+  static constexpr const char* kFitErrorPng = "fit_error.png";
+};
+
+// Throws UserError naming the file when one cannot be written.
+void WritePbrTextures(const PbrMaps& maps, const std::string& dir);
+
+}  // namespace acq
