@@ -23,7 +23,8 @@ std::vector<float> TargetOf(const PbrFitGrid& grid, const PbrParameters& p) {
 }
 
 const PbrFitGrid& Grid() {
-  static const PbrFitGrid grid = PbrFitGrid::Default(merl::Geometry().valid.data());
+  static const PbrFitGrid grid =
+      PbrFitGrid::Default(merl::Geometry().valid.data(), 80 * 3.14159265358979323846 / 180);
   return grid;
 }
 

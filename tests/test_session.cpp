@@ -179,6 +179,17 @@ std::string Output(const std::string& command) {
   return out;
 }
 
+// A session's report reprocessed from its reconstruction with the independent solve, into
+// `out`. The pooled model's discrete choices (its groups, which pixels take a prior) can flip
+// between two sessions that differ only by the sensor's noise or a calibration's small
+// differences; comparisons meant to show that two sessions hold the same data go through the
+// independent solve (docs/reconstruction.md, "Where it fails").
+std::string IndependentReport(const std::string& session, const std::string& out) {
+  Output(std::string(ACQ_PATH) + " session process " + session +
+         " --from reconstruction --set reconstruction.method=independent -o " + out + " 2>&1");
+  return ReadText(out + "/report.json");
+}
+
 // Asks `acqctl status --json` (the real binary, process start included) every 50 ms until
 // stopped; keeps each answer's latency by the kind of step acqd was in.
 class StatusPoller {
@@ -458,13 +469,11 @@ TEST_CASE("session: a whole simulated session, scored; kill -9 and resume give t
     // reconstruction.md, "Where it fails").
     CHECK(JsonNumber(given, "alignment_median_px") < 0.5);
     CHECK(JsonNumber(given, "alignment_max_px") < 1.5);
-    auto independent_median = [&](const std::string& session, const std::string& out) {
-      Output(std::string(ACQ_PATH) + " session process " + session +
-             " --from reconstruction --set reconstruction.method=independent -o " + out + " 2>&1");
-      return JsonNumber(ReadText(out + "/report.json"), "median_log_rmse");
-    };
-    const double given_alone = independent_median(base + "/given/session", base + "/given-alone");
-    const double alone = independent_median(WholeDir() + "/session", base + "/uninterrupted-alone");
+    const double given_alone = JsonNumber(
+        IndependentReport(base + "/given/session", base + "/given-alone"), "median_log_rmse");
+    const double alone =
+        JsonNumber(IndependentReport(WholeDir() + "/session", base + "/uninterrupted-alone"),
+                   "median_log_rmse");
     WARN("independent solve: " << given_alone << " with the camera model given, " << alone
                                << " uninterrupted");
     CHECK(given_alone == Approx(alone).epsilon(0.03));
@@ -550,20 +559,30 @@ TEST_CASE("session: a whole simulated session, scored; kill -9 and resume give t
   };
   const MapSummary a = summarise(WholeDir() + "/session/svbrdf.exr");
   const MapSummary b = summarise(base + "/resumed/session/svbrdf.exr");
-  const std::string resumed_report = ReadText(base + "/resumed/session/report.json");
+  // Through the independent solve (IndependentReport): measured on three sessions of this plan,
+  // the pooled maps' median went from 0.490 to 0.555 (the two materials' own medians within
+  // 1.5%: the median of a two-material card sits between their modes and moves with the
+  // proportion of pixels each model leaves alone) and a validation view from 0.138 to 0.154;
+  // the independent maps' median 0.615 to 0.616, that view 0.161 each time.
+  const std::string resumed_report =
+      IndependentReport(base + "/resumed/session", base + "/resumed-alone");
+  const std::string whole_report =
+      IndependentReport(WholeDir() + "/session", base + "/uninterrupted-alone-2");
+  const double median_whole = JsonNumber(whole_report, "median_log_rmse");
+  const std::vector<double> validation_whole = JsonNumbers(whole_report, "relative_rms");
   const double median_resumed = JsonNumber(resumed_report, "median_log_rmse");
   const std::vector<double> validation_resumed = JsonNumbers(resumed_report, "relative_rms");
   WARN("uninterrupted against resumed: mean observations per pixel "
        << a.observations / a.pixels << ", " << b.observations / b.pixels << "; valid pixels "
        << a.valid << " of " << a.pixels << ", " << b.valid << " of " << b.pixels
-       << "; median log-space RMSE " << median << ", " << median_resumed);
+       << "; median log-space RMSE (independent solve) " << median_whole << ", " << median_resumed);
   CHECK(a.observations / a.pixels > 15);
   CHECK(b.observations / b.pixels == Approx(a.observations / a.pixels).epsilon(0.03));
   CHECK(b.valid / b.pixels == Approx(a.valid / a.pixels).epsilon(0.03));
-  CHECK(median_resumed == Approx(median).epsilon(0.03));
-  REQUIRE(validation_resumed.size() == validation.size());
-  for (std::size_t i = 0; i < validation.size(); ++i)
-    CHECK(validation_resumed[i] == Approx(validation[i]).margin(0.01));
+  CHECK(median_resumed == Approx(median_whole).epsilon(0.03));
+  REQUIRE(validation_resumed.size() == validation_whole.size());
+  for (std::size_t i = 0; i < validation_whole.size(); ++i)
+    CHECK(validation_resumed[i] == Approx(validation_whole[i]).margin(0.01));
 }
 
 // The operator's path: every placement is a prompt in `acqctl status`, nothing is captured while

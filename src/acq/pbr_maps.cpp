@@ -38,7 +38,8 @@ PbrMaps FitPbrMaps(const SvbrdfMap& map, const BasisView& basis, const PbrFitOpt
   options.Check();
   const auto start = std::chrono::steady_clock::now();
   const int w = map.info.width, h = map.info.height, k = map.info.components;
-  const PbrFitGrid grid = PbrFitGrid::Default(basis.valid);
+  const PbrFitGrid grid =
+      PbrFitGrid::Default(basis.valid, options.max_zenith_deg * 3.14159265358979323846 / 180);
   const GridBasis g = Gather(basis, grid, k);
   PbrMaps maps;
   maps.width = w;

@@ -32,11 +32,6 @@ double SchlickWeight(double cos_d) {
 constexpr int kThetaH[] = {0,  1,  2,  3,  4,  5,  6,  8,  10, 12, 15,
                            18, 22, 26, 31, 37, 44, 52, 61, 71, 82};
 constexpr int kThetaDStep = 8, kPhiDStep = 30;  // 11 theta_d and 6 phi_d bin centres
-// Directions beyond 80 degrees from the normal are left out of the fit: there the analytic
-// lobe (Schlick's Fresnel towards 1 over 4 cos cos) and MERL's measurements part by orders of
-// magnitude, and with them in, the fit gives up the peak and the diffuse level a render shows
-// (measured on the card: docs/export.md).
-const double kGrazingCos = std::cos(80.0 * 3.14159265358979323846 / 180.0);
 
 // The coarse search's solve for one channel at a fixed lobe: minimise sum W (a b1 + b b2 + b3 -
 // t)^2 over a >= 0, 0 <= b <= 1, given the sums A (2 x 2), r = sum W b (t - b3), and c = sum W
@@ -236,8 +231,9 @@ std::array<double, 3> EvaluatePbr(const PbrParameters& p, const Eigen::Vector3d&
   return f;
 }
 
-PbrFitGrid PbrFitGrid::Default(const std::uint8_t* valid) {
+PbrFitGrid PbrFitGrid::Default(const std::uint8_t* valid, double max_zenith) {
   PbrFitGrid g;
+  const double min_cos = std::cos(max_zenith);
   for (int h : kThetaH)
     for (int d = kThetaDStep / 2; d < merl::kThetaD; d += kThetaDStep)
       for (int p = kPhiDStep / 2; p < merl::kPhiD; p += kPhiDStep) {
@@ -245,7 +241,7 @@ PbrFitGrid PbrFitGrid::Default(const std::uint8_t* valid) {
         const std::size_t flat = b.Flat();
         if (!valid[flat]) continue;
         const DirectionPair dir = DirectionsFromRusinkiewicz(merl::BinCentre(b));
-        if (dir.in.z() < kGrazingCos || dir.out.z() < kGrazingCos) continue;
+        if (dir.in.z() < min_cos || dir.out.z() < min_cos) continue;
         const Eigen::Vector3d half = (dir.in + dir.out).normalized();
         g.bins.push_back(std::uint32_t(flat));
         g.cos_in.push_back(dir.in.z());
@@ -270,6 +266,10 @@ PbrFitGrid PbrFitGrid::Default(const std::uint8_t* valid) {
 }
 
 void PbrFitOptions::Check() const {
+  if (!(max_zenith_deg >= 30 && max_zenith_deg <= 90))
+    throw UserError("--max-zenith-deg",
+                    "must be between 30 and 90 degrees, got " + std::to_string(max_zenith_deg),
+                    "the default is 80");
   if (roughness_steps < 2 || roughness_steps > 256)
     throw UserError("--roughness-steps",
                     "must be between 2 and 256, got " + std::to_string(roughness_steps),

@@ -39,11 +39,17 @@ struct PbrFitGrid {
   std::vector<std::uint32_t> bins;  // flat MERL indices, ascending
   std::vector<double> cos_in, cos_out, cos_h, cos_d, cos_weight;
   std::size_t Size() const { return bins.size(); }
-  // The default grid over the bins that `valid` (kBins entries, a basis's mask) marks.
-  static PbrFitGrid Default(const std::uint8_t* valid);
+  // The default grid over the bins that `valid` (kBins entries, a basis's mask) marks, with
+  // both directions within `max_zenith` (radians) of the normal.
+  static PbrFitGrid Default(const std::uint8_t* valid, double max_zenith);
 };
 
 struct PbrFitOptions {
+  // Directions further from the normal are left out of the fit: there the analytic lobe
+  // (Schlick's Fresnel towards 1 over 4 cos cos) and measured BRDFs part by orders of
+  // magnitude, and with them in, the fit gives up the peak and the diffuse level a render shows
+  // (measured: docs/export.md).
+  double max_zenith_deg = 80;
   int roughness_steps = 16;  // the coarse search over roughness before the joint refinement
   int max_iterations = 30;   // Levenberg-Marquardt on all seven parameters
   void Check() const;        // throws UserError

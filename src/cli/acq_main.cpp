@@ -90,7 +90,7 @@ const std::map<std::string, Command>& Commands() {
       {"export pbr",
        {ExportPbr,
         "acq export pbr --map MAP.exr -o DIR [--basis BASIS] [--session SESSION] [--name NAME]\n"
-        "    [--roughness-steps 16] [--max-iterations 30] [--quiet]\n"
+        "    [--max-zenith-deg 80] [--roughness-steps 16] [--max-iterations 30] [--quiet]\n"
         "  Fits Lambert + GGX (Schlick F0 colour) to every pixel's BRDF in the method's log\n"
         "  space; writes glTF 2.0 (material.gltf), MaterialX (material.mtlx), their textures, the\n"
         "  fit's error map and fit.json. --session: the fitted and the measured map against the\n"

@@ -122,11 +122,13 @@ std::string MaterialName(const std::string& map_path) {
 
 int ExportPbr(const Argv& argv) {
   const Args args("acq export pbr", argv,
-                  {"map", "basis", "o", "session", "name", "roughness-steps", "max-iterations"},
+                  {"map", "basis", "o", "session", "name", "roughness-steps", "max-iterations",
+                   "max-zenith-deg"},
                   {"quiet"});
   PbrFitOptions options;
   options.roughness_steps = args.GetInt("roughness-steps", options.roughness_steps);
   options.max_iterations = args.GetInt("max-iterations", options.max_iterations);
+  options.max_zenith_deg = args.GetDouble("max-zenith-deg", options.max_zenith_deg);
   options.Check();
   const std::string dir = args.Required("o");
   const std::string session = args.Get("session");
@@ -144,10 +146,14 @@ int ExportPbr(const Argv& argv) {
   WriteGltf(dir, width_mm, height_mm, name);
   WriteMaterialX(dir, name);
 
-  std::vector<double> valid_errors;
+  std::vector<double> valid_errors, f0;
   long converged = 0;
   for (std::size_t p = 0; p < maps.Pixels(); ++p) {
-    if (maps.valid[p]) valid_errors.push_back(maps.log_rmse[p]);
+    if (maps.valid[p]) {
+      valid_errors.push_back(maps.log_rmse[p]);
+      const auto& c = maps.parameters[p].f0;
+      f0.push_back(*std::max_element(c.begin(), c.end()));
+    }
     converged += maps.converged[p];
   }
   nlohmann::json report = {{"map", args.Get("map")},
@@ -155,6 +161,8 @@ int ExportPbr(const Argv& argv) {
                            {"valid_pixels", valid_errors.size()},
                            {"not_converged", long(maps.Pixels()) - converged},
                            {"median_log_rmse", MedianOf(valid_errors)},
+                           // For renderers with one F0 for a material (Mitsuba's principled).
+                           {"median_f0", MedianOf(f0)},
                            {"fit_seconds", maps.seconds}};
   std::vector<int> group;
   for (int y = 0; y < m.map.info.height; ++y)
@@ -186,9 +194,10 @@ int ExportPbr(const Argv& argv) {
       std::printf("  validation %-24s relative RMS: map %.4f, fitted %.4f (%.2fx)\n",
                   v["view"].get<std::string>().c_str(), v["map_relative_rms"].get<double>(),
                   v["fitted_relative_rms"].get<double>(), v["ratio"].get<double>());
-  std::printf("wrote %s/{%s,%s,%s,%s,%s,%s,%s,%s,fit.json}\n", dir.c_str(), kGltfFile, kGltfBuffer,
-              kMaterialXFile, PbrTextureNames::kBaseColor, PbrTextureNames::kMetallicRoughness,
-              PbrTextureNames::kSpecular, PbrTextureNames::kFitError,
+  std::printf("wrote %s/{%s,%s,%s,%s,%s,%s,%s,%s,%s,fit.json}\n", dir.c_str(), kGltfFile,
+              kGltfBuffer, kMaterialXFile, PbrTextureNames::kBaseColor,
+              PbrTextureNames::kMetallicRoughness, PbrTextureNames::kSpecular,
+              PbrTextureNames::kRoughness, PbrTextureNames::kFitError,
               PbrTextureNames::kFitErrorPng);
   return 0;
 }

@@ -54,6 +54,12 @@ void WritePbrTextures(const PbrMaps& maps, const std::string& dir) {
         dir + "/" + N::kMetallicRoughness);
   Write(Image(maps, [&](std::size_t p) { return Srgb(maps.parameters[p].f0); }),
         dir + "/" + N::kSpecular);
+  Write(Image(maps,
+              [&](std::size_t p) {
+                const double r = maps.parameters[p].roughness;
+                return std::array<double, 3>{r, r, r};
+              }),
+        dir + "/" + N::kRoughness);
 
   FloatPlanes error;
   error.width = maps.width;

@@ -2,6 +2,8 @@
 //   basecolor.png           diffuse albedo, sRGB
 //   metallic_roughness.png  glTF's packing: G roughness, B metallic (0), R unused (255); linear
 //   specular.png            F0 colour, sRGB (glTF KHR_materials_specular's specularColorTexture)
+//   roughness.png           roughness alone, linear grey (for renderers that take one channel:
+//                           Mitsuba's principled BSDF)
 //   fit_error.exr           planes log_rmse, converged, valid (float, one a pixel)
 //   fit_error.png           log_rmse in grey (0 to the 99th percentile), red where not converged
 // Texture row 0 is the map's row 0 (glTF's v = 0 at the image's first row).
@@ -17,6 +19,7 @@ struct PbrTextureNames {
   static constexpr const char* kBaseColor = "basecolor.png";
   static constexpr const char* kMetallicRoughness = "metallic_roughness.png";
   static constexpr const char* kSpecular = "specular.png";
+  static constexpr const char* kRoughness = "roughness.png";
   static constexpr const char* kFitError = "fit_error.exr";
   static constexpr const char* kFitErrorPng = "fit_error.png";
 };

@@ -7,7 +7,12 @@ point light's intensity makes a pixel's value rho cos(theta_i) / r^2 with r in m
 `acq render view` computes it. With the camera overhead (the reference view) the image is in
 the map's pixels; it is flipped to the map's row order (the map's rows run along +y).
 
-  python render.py [--spp 4] [-o render.exr] [--variant llvm_ad_rgb]
+  python render.py [--spp 4] [-o render.exr] [--variant llvm_ad_rgb] [--fitted PBR_DIR]
+
+--fitted renders the analytic maps `acq export pbr` fitted to the same map (PBR_DIR) with
+Mitsuba's own principled BSDF instead of the plugin, to compare like with like: base colour and
+roughness per texel; one specular level for the whole sample (the principled BSDF's `specular`
+is a number, not a texture: the fit's median F0, as specular = F0 / 0.08).
 
 Mitsuba 3.9's llvm variants need LLVM 19 (Debian's libllvm19); DRJIT_LIBLLVM_PATH is set to it
 when it is not set already.
@@ -32,7 +37,18 @@ def direction(theta_deg, phi_deg):
     return [math.sin(t) * math.cos(p), math.sin(t) * math.sin(p), math.cos(t)]
 
 
-def scene_dict(mi, d, description, spp):
+def principled(pbr_dir):
+    """Mitsuba's principled BSDF from an `acq export pbr` folder's textures."""
+    with open(os.path.join(pbr_dir, "fit.json")) as f:
+        fit = json.load(f)
+    texture = lambda name, raw: {"type": "bitmap", "filename": os.path.join(pbr_dir, name),
+                                 "raw": raw, "filter_type": "nearest", "wrap_mode": "clamp"}
+    return {"type": "principled", "base_color": texture("basecolor.png", False),
+            "roughness": texture("roughness.png", True), "metallic": 0.0,
+            "specular": min(max(fit["median_f0"] / 0.08, 0.0), 1.0)}
+
+
+def scene_dict(mi, d, description, spp, bsdf=None):
     w, h, px = d["width"], d["height"], d["pixel_size_mm"]
     cam = d["camera"]
     eye = [cam["distance_mm"] * v for v in direction(cam["theta_deg"], cam["phi_deg"])]
@@ -62,7 +78,7 @@ def scene_dict(mi, d, description, spp):
         "sample": {
             "type": "rectangle",
             "to_world": mi.ScalarTransform4f().scale([w * px / 2, h * px / 2, 1]),
-            "bsdf": {"type": "acq_svbrdf", "description": description},
+            "bsdf": bsdf or {"type": "acq_svbrdf", "description": description},
         },
     }
 
@@ -73,6 +89,7 @@ def main():
     parser.add_argument("-o", "--output", default=os.path.join(HERE, "render.exr"))
     parser.add_argument("--variant", default="llvm_ad_rgb")
     parser.add_argument("--description", default=os.path.join(HERE, "scene.json"))
+    parser.add_argument("--fitted", help="an acq export pbr folder: render its maps instead")
     args = parser.parse_args()
     try:
         import mitsuba as mi
@@ -86,7 +103,8 @@ def main():
     with open(args.description) as f:
         d = json.load(f)
     start = time.time()
-    scene = mi.load_dict(scene_dict(mi, d, args.description, args.spp))
+    bsdf = principled(args.fitted) if args.fitted else None
+    scene = mi.load_dict(scene_dict(mi, d, args.description, args.spp, bsdf))
     image = mi.render(scene)
     import numpy as np
     pixels = np.array(image)

@@ -1,0 +1,50 @@
+#!/usr/bin/env bash
+# The renderer exports measured (issue 20; docs/export.md): on the main job's simulated colour
+# session (tools/run-main.sh makes out/sessions/sim-card), reprocessed from its reconstruction
+# so that its validation views' data are kept,
+#   1. the Mitsuba plugin's render against `acq render view` at 1, 4 and 16 samples per pixel,
+#      and two renders at 4 spp with different seeds against each other (the Monte Carlo noise);
+#   2. the analytic fit's price: its error per true material, the validation views with the
+#      fitted maps against the measured map, a chart (fit_price.png);
+#   3. the fitted maps in Mitsuba's principled BSDF against our evaluation of the same maps;
+#   4. side-by-side pictures for the README (docs/images/export_*.png);
+#   5. the time to fit a 1-megapixel map (a 1024 x 1024 synthetic card).
+# usage: tools/study_export.sh [OUT]   (default out/study/export)
+set -euo pipefail
+cd "$(dirname "$0")/.."
+acq=build/src/cli/acq
+py=.venv/bin/python
+out=${1:-out/study/export}
+session=out/sessions/sim-card
+[ -f "$session/report.json" ] || { echo "run tools/run-main.sh first (it makes $session)"; exit 1; }
+rm -rf "$out" && mkdir -p "$out"
+$acq session process "$session" --from reconstruction -o "$out/session" > "$out/session.log"
+map=$out/session/svbrdf.exr
+
+echo "== 1. Mitsuba with the plugin against acq render view (light 30/0, camera overhead) =="
+$acq export mitsuba --map "$map" -o "$out/mitsuba" > /dev/null
+$acq render view --map "$map" -o "$out/ours.exr" > /dev/null
+for spp in 1 4 16; do
+  $py "$out/mitsuba/render.py" --spp $spp -o "$out/mitsuba_${spp}spp.exr"
+  echo "  $spp spp: relative RMS $($py tools/chart_export.py compare "$out/mitsuba_${spp}spp.exr" "$out/ours.exr")"
+done
+
+echo "== 2. the analytic fit's price =="
+$acq export pbr --map "$map" --session "$out/session" -o "$out/pbr" --quiet | tee "$out/pbr.txt"
+$py tools/chart_export.py fit "$out/pbr/fit.json" "$out/fit_price.png"
+
+echo "== 3. the fitted maps in Mitsuba's principled BSDF =="
+$py "$out/mitsuba/render.py" --spp 16 --fitted "$out/pbr" -o "$out/principled.exr"
+echo "  principled (fitted maps) against acq render view of the measured map: relative RMS" \
+  "$($py tools/chart_export.py compare "$out/principled.exr" "$out/ours.exr")"
+
+echo "== 4. pictures =="
+mkdir -p docs/images
+$py tools/chart_export.py side "$out/ours.exr" "$out/mitsuba_16spp.exr" "$out/principled.exr" \
+  docs/images/export_renders.png
+cp "$out/fit_price.png" docs/images/export_fit_price.png
+
+echo "== 5. the time to fit a 1-megapixel map =="
+$acq reconstruct synthetic --basis out/main/basis116.acqb --directions out/main/optimized20.tsv \
+  --size 1024x1024 --fov-deg 4 --method independent -o "$out/card1024.exr" --quiet > /dev/null
+/usr/bin/time -f "  peak memory %M KB" $acq export pbr --map "$out/card1024.exr" -o "$out/pbr1024" --quiet
