@@ -14,7 +14,9 @@
 #   5. acqd on examples/plan-sim.yaml: the simulated instrument's colour camera captures the
 #      calibration boards, the card, the Spectralon and a colour chart, and acqd calibrates,
 #      fits the colour matrix, aligns and reconstructs it into a colour SVBRDF map;
-#   6. acqd replays that session (examples/plan-replay.yaml) through the same code.
+#   6. acqd replays that session (examples/plan-replay.yaml) through the same code;
+#   7. the session's map exported: Lambert + GGX fitted per pixel as glTF and MaterialX, and the
+#      measured map as a Mitsuba 3 scene, rendered by Mitsuba.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 tools/setup.sh
@@ -74,6 +76,13 @@ echo "== 6. the recorded session replayed through acqd =="
 rm -rf out/sessions/sim-card-replayed
 build/src/daemon/acqd --session examples/plan-replay.yaml --socket "out/acqd.sock" | tail -8
 echo
+echo "== 7. the session's map into renderers: glTF + MaterialX fitted, Mitsuba 3 measured (docs/export.md) =="
+rm -rf "$out/export"
+$acq export pbr --map out/sessions/sim-card/svbrdf.exr --session out/sessions/sim-card \
+  -o "$out/export/pbr" --quiet
+$acq export mitsuba --map out/sessions/sim-card/svbrdf.exr -o "$out/export/mitsuba"
+.venv/bin/python "$out/export/mitsuba/render.py" -o "$out/export/mitsuba/render.exr"
+echo
 echo "outputs in $out:"
 echo "  basis116.acqb              the default basis, MERL + RGL (docs/basis-format.md)"
 echo "  basis90.acqb               the MERL-only basis (the paper's setting)"
@@ -95,7 +104,13 @@ echo "  calibration/               camera.cameramodel, intrinsics.txt, extrinsic
 echo "  hdr/, correspondence/      merged, demosaiced camera RGB per pose; reference-to-view maps"
 echo "  svbrdf.exr                 the reconstructed colour SVBRDF map, linear Rec. 709 (docs/svbrdf-map.md)"
 echo "  renders/validation_*.png   the map's render beside each validation capture it never saw"
+echo "  renders/validation_*.exr   each validation capture and its directions, for models made later"
 echo "  report.txt, report.json    where the time went, validity, validation errors, the chart fit,"
 echo "                             CIEDE2000 of the validation views, the score against the truth"
 echo "  ground_truth/              the simulated card's labels, names, camera model, error.exr"
 echo "and out/sessions/sim-card-replayed: the same session replayed (same frames, same map)"
+echo "and in $out/export (docs/export.md):"
+echo "  pbr/material.gltf, .mtlx   Lambert + GGX fitted per pixel, as glTF 2.0 and MaterialX, with"
+echo "                             their textures, fit_error.exr/.png and fit.json (the fit's price)"
+echo "  mitsuba/                   a Mitsuba 3 scene with the measured map's BSDF plugin;"
+echo "                             render.exr rendered by it (.venv/bin/python mitsuba/render.py)"
