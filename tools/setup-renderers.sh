@@ -2,7 +2,7 @@
 # The renderer exports' tools (docs/export.md), beside the Debian packages tools/setup.sh
 # installs: .venv (Debian's python3 -m venv) with Mitsuba 3, Dr.Jit, MaterialX and numpy at the
 # versions tools/requirements-renderers.txt pins, and tools/node/node_modules with the Khronos
-# glTF validator. Idempotent: each is skipped when it is there at the pinned versions.
+# glTF validator and puppeteer-core (the live view's browser test drives Debian's Chromium). Idempotent: each is skipped when it is there at the pinned versions.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 requirements=tools/requirements-renderers.txt
@@ -19,7 +19,7 @@ node_stamp=tools/node/node_modules/.acq-package
 if [ -d tools/node/node_modules/gltf-validator ] && cmp -s tools/node/package.json "$node_stamp"; then
   echo "setup: tools/node up to date"
 else
-  echo "setup: installing the glTF validator into tools/node"
+  echo "setup: installing the glTF validator and puppeteer-core into tools/node"
   (cd tools/node && npm install --silent --no-audit --no-fund --no-package-lock)
   cp tools/node/package.json "$node_stamp"
 fi

@@ -18,6 +18,8 @@ packages=(
   # the renderer exports' tools (docs/export.md): a virtual environment for Mitsuba 3 and
   # MaterialX, the LLVM that Mitsuba 3.9's llvm variants need, node for the glTF validator
   python3-venv libllvm19
+  # acqctl serve (the live view: docs/live-view.md) and its test in a real browser
+  libcpp-httplib-dev chromium
 )
 
 sudo_cmd=()

@@ -1,5 +1,6 @@
 // acqctl: talks to a running acqd over its control socket (issue 8).
 //   acqctl [--socket PATH] status [--json] | watch | pause | resume | abort | confirm [PROMPT_ID]
+//          | serve [--port 8080] [--bind 127.0.0.1]  (the live view in a browser, live_view.h)
 // A reply that is not what acqd sends (not JSON, a field missing or of the wrong type) is an
 // error message and exit 1, never a crash (issue 22).
 #include <signal.h>
@@ -14,6 +15,7 @@
 
 #include "core/error.h"
 #include "daemon/control.h"
+#include "daemon/live_view.h"
 #include "daemon/parse_args.h"
 
 namespace {
@@ -101,6 +103,12 @@ int Run(int argc, char** argv) {
   std::string prompt_id;
   app.add_subcommand("confirm", "answer the operator prompt showing")
       ->add_option("PROMPT_ID", prompt_id, "the prompt's id (acqctl status)");
+  acq::LiveViewOptions view;
+  CLI::App* serve =
+      app.add_subcommand("serve", "the live view: a web page of the session (docs/live-view.md)");
+  serve->add_option("--port", view.port, "TCP port (0: any free one)")->default_val(view.port);
+  serve->add_option("--bind", view.bind, "address to listen on; beyond 127.0.0.1 is warned of")
+      ->default_val(view.bind);
   if (const std::optional<int> exit = acq::ParseArgs(app, argc, argv)) return *exit;
   if (app.get_subcommands().empty()) {
     std::fputs(("acqctl: a command is required\n" + app.help()).c_str(), stderr);
@@ -117,6 +125,10 @@ int Run(int argc, char** argv) {
     return 0;
   }
   if (command == watch) return Watch(socket);
+  if (command == serve) {
+    view.socket = socket;
+    return acq::ServeLiveView(view);
+  }
   const std::string name = command->get_name();
   const std::string request = prompt_id.empty() ? name : name + " " + prompt_id;
   const std::string reply = acq::ControlRequest(socket, request);

@@ -104,6 +104,13 @@ void ControlServer::Publish(const SessionStatus& status) {
   status_ = status;
 }
 
+void ControlServer::PublishFrame(const FramePreview& preview) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  const std::uint64_t seq = frame_.seq + 1;
+  frame_ = preview;
+  frame_.seq = seq;
+}
+
 std::optional<ControlCommand> ControlServer::TakeCommand() {
   std::lock_guard<std::mutex> lock(mutex_);
   if (commands_.empty()) return std::nullopt;
@@ -139,12 +146,13 @@ std::string ControlServer::Confirm(const std::string& argument) {
 std::string ControlServer::Answer(const std::string& request) {
   std::lock_guard<std::mutex> lock(mutex_);
   if (request == "status") return status_.Json();
+  if (request == "frame") return frame_.Json();
   const std::size_t space = request.find(' ');
   const std::string verb = request.substr(0, space);
   const std::string argument = space == std::string::npos ? "" : request.substr(space + 1);
   const std::optional<CommandKind> kind = ParseCommandKind(verb);
   if (!kind)
-    return "error unknown request '" + request + "' (status, pause, resume, abort, confirm)";
+    return "error unknown request '" + request + "' (status, frame, pause, resume, abort, confirm)";
   if (*kind == CommandKind::kConfirm) return Confirm(argument);
   if (!argument.empty()) return "error " + verb + " takes no argument";
   commands_.push_back({*kind, 0});

@@ -5,8 +5,10 @@
 // Commands (pause, resume, abort, confirm) are queued for the sequencer to take at its next
 // safe point.
 //
-// Protocol: one request line ("status", "pause", "resume", "abort", "confirm [PROMPT_ID]"), one
-// reply line (status: a JSON object; commands: "ok ..." or "error ..."). A confirmation counts
+// Protocol: one request line ("status", "frame", "pause", "resume", "abort", "confirm
+// [PROMPT_ID]"), one reply line (status: a JSON object; frame: the latest frame's preview as a
+// JSON object, session/status.h's FramePreview, seq 0 before the first; commands: "ok ..." or
+// "error ..."). A confirmation counts
 // only for the operator prompt showing when it arrives (issue 22): each prompt has an id, a
 // confirm while none shows, or naming a prompt no longer showing, is refused.
 //
@@ -39,6 +41,7 @@ class ControlServer : public StatusChannel {
   ControlServer& operator=(const ControlServer&) = delete;
 
   void Publish(const SessionStatus& status) override;
+  void PublishFrame(const FramePreview& preview) override;
   std::optional<ControlCommand> TakeCommand() override;
   const std::string& path() const { return path_; }
 
@@ -58,6 +61,7 @@ class ControlServer : public StatusChannel {
   std::thread thread_;
   std::mutex mutex_;
   SessionStatus status_;
+  FramePreview frame_;        // the latest, numbered here
   int confirmed_prompt_ = 0;  // the last prompt a confirm was accepted for
   std::deque<ControlCommand> commands_;
 };

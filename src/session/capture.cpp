@@ -12,6 +12,7 @@
 #include "core/seconds_since.h"
 #include "core/stop_request.h"
 #include "hw/frame_file.h"
+#include "session/frame_preview.h"
 
 namespace acq {
 namespace {
@@ -231,6 +232,10 @@ void TakeFrame(const Plan& plan, const CaptureStep& step, const HeldPose& pose, 
   const double exposing_s = std::min(grab_s, t / 1e6);
   report->exposure_s += exposing_s;
   report->transfer_s += grab_s - exposing_s;
+  // The live view's copy (a few thousand pixels' work) before the frame goes to the writer.
+  FramePreview preview = PreviewOf(frame);
+  preview.step = c.status.step;
+  c.control.PublishFrame(preview);
   const int i = int(pose.index);
   const std::string name = FrameFileName(step.step, i, t);
   const StreamStatistics stats = c.camera.Statistics();

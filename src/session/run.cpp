@@ -1,6 +1,7 @@
 #include "session/run.h"
 
 #include <cstdio>
+#include <filesystem>
 #include <optional>
 
 #include "acq/move_planner.h"
@@ -167,6 +168,7 @@ void RecordFailure(const std::exception& e, bool stopped, Gantry* gantry, Sessio
 SessionReport RunSession(const Plan& plan, StatusChannel& control, SessionStatus& status,
                          const SessionHooks& hooks) {
   const auto session_start = SteadyClock::now();
+  status.session = std::filesystem::absolute(plan.output).string();
   // Each phase in the log with the session's time at its start, so a log says where time went.
   const Phase phase = [&](const std::string& what) {
     status.step = what;

@@ -2,6 +2,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "core/base64.h"
+
 namespace acq {
 
 const char* ToString(DaemonState s) {
@@ -74,6 +76,7 @@ std::string SessionStatus::Json() const {
   j["prompt"] = prompt;
   j["prompt_id"] = prompt_id;
   j["last_error"] = last_error;
+  j["session"] = session;
   // One line, "key": value as acqd always wrote it; nlohmann escapes every text. Invalid UTF-8
   // (a device's name, say) is replaced rather than thrown on.
   std::string line = "{";
@@ -81,6 +84,22 @@ std::string SessionStatus::Json() const {
     line += (line.size() > 1 ? ", " : "") + nlohmann::json(key).dump() + ": " +
             value.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
   return line + "}";
+}
+
+std::string FramePreview::Json() const {
+  nlohmann::ordered_json j;
+  j["seq"] = seq;
+  j["width"] = width;
+  j["height"] = height;
+  j["source_width"] = source_width;
+  j["source_height"] = source_height;
+  j["exposure_us"] = exposure_us;
+  j["step"] = step;
+  j["sampled"] = sampled;
+  j["clipped"] = clipped;
+  j["histogram"] = histogram;
+  j["grey_base64"] = Base64Encode(grey);
+  return j.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
 }
 
 }  // namespace acq

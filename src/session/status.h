@@ -4,8 +4,11 @@
 // an in-process test can be another.
 #pragma once
 
+#include <array>
+#include <cstdint>
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace acq {
 
@@ -35,6 +38,7 @@ struct SessionStatus {
   int prompt_id = 0;                  // the prompt's id while one shows (1, 2, ...), else 0
   long frames = 0, incomplete_frames = 0, retransmissions = 0;
   std::string last_error;
+  std::string session;  // the session's folder, absolute (its renders and report, once written)
   std::string Json() const;  // one line; NaN and infinities as null
 };
 
@@ -47,11 +51,27 @@ struct ControlCommand {
   int prompt_id = 0;  // kConfirm: the prompt it answers
 };
 
+// A small grey copy of the latest frame and its exposure's statistics, for a live view
+// (issue 23; frame_preview.h makes one from a frame).
+struct FramePreview {
+  std::uint64_t seq = 0;  // 1, 2, ... in the order published (the channel numbers them); 0: none
+  int width = 0, height = 0;                // the preview's
+  int source_width = 0, source_height = 0;  // the frame's
+  double exposure_us = 0;
+  std::string step;                  // what it was taken for (the status's step then)
+  std::vector<std::uint8_t> grey;    // width x height, value / max with a 1/2.2 display gamma
+  std::array<long, 32> histogram{};  // value / max over the sampled blocks, 32 equal bins
+  long sampled = 0, clipped = 0;     // 2 x 2 blocks sampled, and those with a pixel at the max
+  std::string Json() const;          // one line; the pixels in base64
+};
+
 // Where the sequencer publishes its status and takes operator commands.
 class StatusChannel {
  public:
   virtual ~StatusChannel() = default;
   virtual void Publish(const SessionStatus& status) = 0;
+  // The latest frame's preview, for a live view; channels without one ignore it.
+  virtual void PublishFrame(const FramePreview&) {}
   // The oldest command not yet taken, if any.
   virtual std::optional<ControlCommand> TakeCommand() = 0;
 };

@@ -1,0 +1,17 @@
+// A frame's preview for the live view (status.h's FramePreview): every s-th 2 x 2 block
+// averaged (s even, so that a Bayer frame's colour sites average to grey and a mono frame is
+// smoothed alike) into at most `max_side` pixels a side. Counted on the sampled blocks, not on
+// every pixel: it runs on the capture's thread between a grab and the next move, and costs
+// about 40,000 blocks whatever the frame's size.
+#pragma once
+
+#include "hw/camera.h"
+#include "session/status.h"
+
+namespace acq {
+
+inline constexpr int kPreviewMaxSide = 192;  // a 37 kB grey image, 49 kB in base64
+
+FramePreview PreviewOf(const Frame& frame, int max_side = kPreviewMaxSide);
+
+}  // namespace acq

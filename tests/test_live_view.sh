@@ -1,0 +1,66 @@
+#!/usr/bin/env bash
+# The live view end to end (issue 23, docs/live-view.md): acqd on a simulated session with
+# operator prompts, `acqctl serve` on a free port, and headless Chromium driving the page
+# (tests/live_view.js); then the server's own bad cases (acqd never started, a port in use).
+# usage: test_live_view.sh ACQD ACQCTL ACQ DATA_DIR SOURCE_ROOT
+set -u
+acqd=$1 acqctl=$2 acq=$3 data=$4 root=$5
+puppeteer=$root/tools/node/node_modules/puppeteer-core
+if [ ! -d "$puppeteer" ] || ! command -v chromium >/dev/null; then
+  echo "the live view's test tools are not set up (chromium, tools/node): run tools/setup.sh"
+  [ "${ACQ_REQUIRE_EXPORT_TOOLS:-0}" = 1 ] && exit 1
+  exit 77
+fi
+tmp=$(mktemp -d)
+pids=()
+trap 'kill "${pids[@]}" 2>/dev/null; wait 2>/dev/null; rm -rf "$tmp"' EXIT
+shots=${ACQ_LIVE_VIEW_SHOTS:-$tmp}
+mkdir -p "$shots" "$tmp/run"
+# The session test's operator plan (tests/test_session.cpp): processing is never reached, so
+# any basis will do (three components of three materials: a second to build).
+"$acq" basis build "$data/nbrdf/merl/brass.h5" "$data/nbrdf/merl/white-paint.h5" \
+  "$data/nbrdf/merl/black-fabric.h5" --components 3 -o "$tmp/basis.acqb" --quiet > /dev/null
+cat > "$tmp/run/plan.yaml" <<PLAN
+version: 1
+backend: sim
+output: session
+sample: {size_mm: [40, 40]}
+gantry:
+  limits: {max_camera_zenith_deg: 66, max_light_zenith_deg: 89}
+camera:
+  hdr: {bracket_us: [2000, 16000]}
+directions: {file: $data/directions/seed_directions_20.tsv, validation: $data/directions/validation_3.tsv}
+calibration: {intrinsics_captures: 3, board: {size: [10, 10], spacing_mm: 3}}
+spectralon: true
+reconstruction: {basis: $tmp/basis.acqb, k: 3}
+sim:
+  materials: [$data/nbrdf/merl/white-paint.h5, $data/nbrdf/merl/brass.h5]
+  time_scale: 20
+  operator: true
+PLAN
+socket=$tmp/acqd.sock
+failures=0
+"$acqd" --session "$tmp/run/plan.yaml" --socket "$socket" > "$tmp/acqd.log" 2>&1 &
+pids+=($!)
+"$acqctl" --socket "$socket" serve --port 0 > "$tmp/serve.log" 2>&1 &
+pids+=($!)
+url=""
+for _ in $(seq 50); do
+  url=$(grep -o 'http://[^ ]*' "$tmp/serve.log" 2>/dev/null || true)
+  [ -n "$url" ] && break
+  sleep 0.1
+done
+if [ -z "$url" ]; then echo "FAIL: acqctl serve printed no address"; cat "$tmp/serve.log"; exit 1; fi
+case "$url" in http://127.0.0.1:*) echo "ok: bound to 127.0.0.1 by default";; *) echo "FAIL: $url"; failures=$((failures + 1));; esac
+node "$root/tests/live_view.js" "$puppeteer" "$url" "$shots" || { failures=$((failures + 1)); tail -20 "$tmp/acqd.log"; }
+
+# The server's own bad cases.
+port=$(sed -E 's|.*:([0-9]+)/.*|\1|' <<<"$url")
+out=$(timeout 5 "$acqctl" --socket "$tmp/none.sock" serve --port "$port" 2>&1); rc=$?
+if [ "$rc" -eq 1 ] && grep -qF "cannot listen" <<<"$out"; then echo "ok: a port in use is a clear error"
+else echo "FAIL: a port in use (exit $rc): $out"; failures=$((failures + 1)); fi
+out=$(timeout 5 "$acqctl" serve --bind 0.0.0.0 --port 0 2>&1); rc=$?
+if grep -qF "beyond this machine" <<<"$out"; then echo "ok: binding beyond localhost is said"
+else echo "FAIL: no warning for --bind 0.0.0.0: $out"; failures=$((failures + 1)); fi
+echo "$failures failed"
+[ "$failures" -eq 0 ]
