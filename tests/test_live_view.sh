@@ -54,8 +54,28 @@ if [ -z "$url" ]; then echo "FAIL: acqctl serve printed no address"; cat "$tmp/s
 case "$url" in http://127.0.0.1:*) echo "ok: bound to 127.0.0.1 by default";; *) echo "FAIL: $url"; failures=$((failures + 1));; esac
 node "$root/tests/live_view.js" "$puppeteer" "$url" "$shots" || { failures=$((failures + 1)); tail -20 "$tmp/acqd.log"; }
 
+# acqd --preview: the camera streaming to the page, the exposure from it; nothing recorded.
+kill "${pids[@]}" 2>/dev/null; wait 2>/dev/null; pids=()
+mkdir -p "$tmp/preview" && cp "$tmp/run/plan.yaml" "$tmp/preview/plan.yaml"
+"$acqd" --session "$tmp/preview/plan.yaml" --preview --socket "$socket" > "$tmp/preview.log" 2>&1 &
+pids+=($!)
+"$acqctl" --socket "$socket" serve --port 0 > "$tmp/serve2.log" 2>&1 &
+pids+=($!)
+url2=""
+for _ in $(seq 50); do
+  url2=$(grep -o 'http://[^ ]*' "$tmp/serve2.log" 2>/dev/null || true)
+  [ -n "$url2" ] && break
+  sleep 0.1
+done
+node "$root/tests/live_view_preview.js" "$puppeteer" "$url2" "$shots" || { failures=$((failures + 1)); tail -20 "$tmp/preview.log"; }
+if [ -n "$(ls -A "$tmp/preview/session/frames" 2>/dev/null)" ]; then
+  echo "FAIL: the preview recorded frames"; failures=$((failures + 1))
+else
+  echo "ok: the preview recorded nothing"
+fi
+
 # The server's own bad cases.
-port=$(sed -E 's|.*:([0-9]+)/.*|\1|' <<<"$url")
+port=$(sed -E 's|.*:([0-9]+)/.*|\1|' <<<"$url2")  # the preview's server, still running
 out=$(timeout 5 "$acqctl" --socket "$tmp/none.sock" serve --port "$port" 2>&1); rc=$?
 if [ "$rc" -eq 1 ] && grep -qF "cannot listen" <<<"$out"; then echo "ok: a port in use is a clear error"
 else echo "FAIL: a port in use (exit $rc): $out"; failures=$((failures + 1)); fi

@@ -20,6 +20,7 @@
 #include "hw/protocol_gantry.h"
 #include "hw/usb_transport.h"
 #include "session/dry_run.h"
+#include "session/preview.h"
 #include "session/run.h"
 #include "session/truth_score.h"
 #include "sim/environment.h"
@@ -95,15 +96,37 @@ SessionDevices OpenInstrument(const Plan& plan, sim::Instrument* instrument,
   return d;
 }
 
+// The preview: the camera alone (the simulated one with the sample under it), no session.
+int Preview(const Plan& plan, sim::Instrument* instrument, ControlServer& control,
+            SessionStatus& status) {
+  if (plan.backend == Backend::kReplay)
+    throw UserError("--preview", "a replay has no camera to preview", "give a sim or usb plan");
+  AravisCameraOptions options;
+  options.id = instrument ? instrument->camera_address() : plan.camera.id;
+  status.step = "opening the camera (" + options.id + ") for a preview";
+  control.Publish(status);
+  std::printf("%s\n", status.step.c_str());
+  AravisCamera camera(options);
+  if (instrument) instrument->Place(Placement{Item::kSample, 0});
+  std::printf("preview: streaming to the live view (acqctl serve); abort or Ctrl-C ends it\n");
+  std::fflush(stdout);
+  RunPreview(plan, camera, control, status);
+  return 0;
+}
+
 int Run(int argc, char** argv) {
   CLI::App app{"acqd: runs a capture session from a plan (docs/session-and-plan.md)", "acqd"};
   std::string session, socket = DefaultControlSocket();
-  bool dry_run = false;
+  bool dry_run = false, preview = false;
   app.add_option("--session", session, "the plan (.yaml) of the session to run (required)")
       ->option_text("PLAN.yaml");
   app.add_flag("--dry-run", dry_run,
                "validate the plan, print the schedule, the visiting order and the estimated "
                "time; open no device, move nothing");
+  app.add_flag("--preview", preview,
+               "open the camera only and stream its frames to the live view (acqctl serve) at "
+               "a few frames a second, the exposure set from the page; nothing moves, nothing is "
+               "recorded; abort or Ctrl-C ends it");
   app.add_option("--socket", socket, "the control socket acqctl talks to")
       ->option_text("PATH (default $XDG_RUNTIME_DIR/acqd.sock)");
   if (const std::optional<int> exit = ParseArgs(app, argc, argv)) return *exit;
@@ -134,6 +157,7 @@ int Run(int argc, char** argv) {
     std::printf("%s\n", status.step.c_str());
     instrument = std::make_unique<sim::Instrument>(InstrumentOptionsOf(plan));
   }
+  if (preview) return Preview(plan, instrument.get(), control, status);
   SessionHooks hooks;
   hooks.open = [&](const std::function<void(const std::string&)>& phase) {
     if (plan.backend == Backend::kReplay) {

@@ -143,6 +143,19 @@ std::string ControlServer::Confirm(const std::string& argument) {
   return "ok confirm of prompt " + std::to_string(id) + " queued: " + status_.prompt;
 }
 
+// Called with mutex_ held. Only a preview takes an exposure: a session's come from its plan.
+std::string ControlServer::Exposure(const std::string& argument) {
+  if (status_.state != DaemonState::kPreview)
+    return "error the exposure is set only in preview mode (acqd --preview); a session's "
+           "exposures come from its plan";
+  char* end = nullptr;
+  const double us = std::strtod(argument.c_str(), &end);
+  if (argument.empty() || *end != '\0' || !(us >= 1 && us <= 1e7))
+    return "error exposure takes microseconds from 1 to 10000000, not '" + argument + "'";
+  commands_.push_back({CommandKind::kExposure, 0, us});
+  return "ok exposure " + argument + " us queued";
+}
+
 std::string ControlServer::Answer(const std::string& request) {
   std::lock_guard<std::mutex> lock(mutex_);
   if (request == "status") return status_.Json();
@@ -154,6 +167,7 @@ std::string ControlServer::Answer(const std::string& request) {
   if (!kind)
     return "error unknown request '" + request + "' (status, frame, pause, resume, abort, confirm)";
   if (*kind == CommandKind::kConfirm) return Confirm(argument);
+  if (*kind == CommandKind::kExposure) return Exposure(argument);
   if (!argument.empty()) return "error " + verb + " takes no argument";
   commands_.push_back({*kind, 0});
   return "ok " + verb + " queued; the sequencer takes it at its next safe point";

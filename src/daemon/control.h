@@ -6,11 +6,11 @@
 // safe point.
 //
 // Protocol: one request line ("status", "frame", "pause", "resume", "abort", "confirm
-// [PROMPT_ID]"), one reply line (status: a JSON object; frame: the latest frame's preview as a
-// JSON object, session/status.h's FramePreview, seq 0 before the first; commands: "ok ..." or
-// "error ..."). A confirmation counts
-// only for the operator prompt showing when it arrives (issue 22): each prompt has an id, a
-// confirm while none shows, or naming a prompt no longer showing, is refused.
+// [PROMPT_ID]", "exposure US" in preview mode only), one reply line (status: a JSON object; frame:
+// the latest frame's preview as a JSON object, session/status.h's FramePreview, seq 0 before the
+// first; commands: "ok ..." or "error ..."). A confirmation counts only for the operator prompt
+// showing when it arrives (issue 22): each prompt has an id, a confirm while none shows, or naming
+// a prompt no longer showing, is refused.
 //
 // The server multiplexes its clients with poll (issue 22): a slow or silent client holds only
 // its own slot (each has a deadline), never another's answer; replies are sent without SIGPIPE.
@@ -54,6 +54,7 @@ class ControlServer : public StatusChannel {
   void Serve();
   std::string Answer(const std::string& request);
   std::string Confirm(const std::string& argument);
+  std::string Exposure(const std::string& argument);
 
   std::string path_;
   int listener_ = -1;

@@ -102,13 +102,19 @@ void Routes(httplib::Server& server, const LiveViewOptions& o) {
   });
   server.Post("/api/command", [socket](const httplib::Request& req, httplib::Response& res) {
     const std::string name = req.get_param_value("name");
-    if (name != "confirm" && name != "abort" && name != "pause" && name != "resume") {
+    // The argument goes into acqd's request line: a number or nothing, never another line.
+    const std::string argument = name == "confirm"
+                                     ? req.get_param_value("prompt")
+                                     : (name == "exposure" ? req.get_param_value("value") : "");
+    const bool known = name == "confirm" || name == "abort" || name == "pause" ||
+                       name == "resume" || name == "exposure";
+    if (!known || argument.find_first_not_of("0123456789.") != std::string::npos ||
+        argument.size() > 16) {
       res.status = 400;
-      return Json(res, {{"ok", false}, {"reply", "unknown command '" + name + "'"}});
+      return Json(res,
+                  {{"ok", false}, {"reply", "not a command of the live view: '" + name + "'"}});
     }
-    std::string request = name;
-    const std::string prompt = req.get_param_value("prompt");
-    if (name == "confirm" && !prompt.empty()) request += " " + prompt;
+    const std::string request = argument.empty() ? name : name + " " + argument;
     try {
       const std::string reply = ControlRequest(socket, request, 1000);
       Json(res, {{"ok", reply.rfind("ok", 0) == 0}, {"reply", reply}});

@@ -24,14 +24,16 @@ const char* ToString(DaemonState s) {
       return "done";
     case DaemonState::kFailed:
       return "failed";
+    case DaemonState::kPreview:
+      return "preview";
   }
   return "?";
 }
 
 std::optional<DaemonState> ParseDaemonState(const std::string& text) {
-  for (DaemonState s :
-       {DaemonState::kStarting, DaemonState::kRunning, DaemonState::kPaused, DaemonState::kWaiting,
-        DaemonState::kAborted, DaemonState::kStopped, DaemonState::kDone, DaemonState::kFailed})
+  for (DaemonState s : {DaemonState::kStarting, DaemonState::kRunning, DaemonState::kPaused,
+                        DaemonState::kWaiting, DaemonState::kAborted, DaemonState::kStopped,
+                        DaemonState::kDone, DaemonState::kFailed, DaemonState::kPreview})
     if (text == ToString(s)) return s;
   return std::nullopt;
 }
@@ -51,13 +53,15 @@ const char* ToString(CommandKind k) {
       return "abort";
     case CommandKind::kConfirm:
       return "confirm";
+    case CommandKind::kExposure:
+      return "exposure";
   }
   return "?";
 }
 
 std::optional<CommandKind> ParseCommandKind(const std::string& text) {
-  for (CommandKind k :
-       {CommandKind::kPause, CommandKind::kResume, CommandKind::kAbort, CommandKind::kConfirm})
+  for (CommandKind k : {CommandKind::kPause, CommandKind::kResume, CommandKind::kAbort,
+                        CommandKind::kConfirm, CommandKind::kExposure})
     if (text == ToString(k)) return k;
   return std::nullopt;
 }

@@ -21,7 +21,8 @@ enum class DaemonState {
   kAborted,
   kStopped,
   kDone,
-  kFailed
+  kFailed,
+  kPreview  // acqd --preview: the camera streaming to the live view, nothing moved or recorded
 };
 const char* ToString(DaemonState s);
 std::optional<DaemonState> ParseDaemonState(const std::string& text);
@@ -42,13 +43,14 @@ struct SessionStatus {
   std::string Json() const;  // one line; NaN and infinities as null
 };
 
-enum class CommandKind { kPause, kResume, kAbort, kConfirm };
+enum class CommandKind { kPause, kResume, kAbort, kConfirm, kExposure };
 const char* ToString(CommandKind k);
 std::optional<CommandKind> ParseCommandKind(const std::string& text);
 
 struct ControlCommand {
   CommandKind kind;
   int prompt_id = 0;  // kConfirm: the prompt it answers
+  double value = 0;   // kExposure: microseconds (preview only)
 };
 
 // A small grey copy of the latest frame and its exposure's statistics, for a live view
