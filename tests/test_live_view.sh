@@ -40,16 +40,17 @@ sim:
 PLAN
 socket=$tmp/acqd.sock
 failures=0
+printed_url() {  # LOG: the address acqctl serve prints there, waited for up to 5 s
+  for _ in $(seq 50); do
+    grep -o 'http://[^ ]*' "$1" 2>/dev/null && return
+    sleep 0.1
+  done
+}
 "$acqd" --session "$tmp/run/plan.yaml" --socket "$socket" > "$tmp/acqd.log" 2>&1 &
 pids+=($!)
 "$acqctl" --socket "$socket" serve --port 0 > "$tmp/serve.log" 2>&1 &
 pids+=($!)
-url=""
-for _ in $(seq 50); do
-  url=$(grep -o 'http://[^ ]*' "$tmp/serve.log" 2>/dev/null || true)
-  [ -n "$url" ] && break
-  sleep 0.1
-done
+url=$(printed_url "$tmp/serve.log")
 if [ -z "$url" ]; then echo "FAIL: acqctl serve printed no address"; cat "$tmp/serve.log"; exit 1; fi
 case "$url" in http://127.0.0.1:*) echo "ok: bound to 127.0.0.1 by default";; *) echo "FAIL: $url"; failures=$((failures + 1));; esac
 node "$root/tests/live_view.js" "$puppeteer" "$url" "$shots" || { failures=$((failures + 1)); tail -20 "$tmp/acqd.log"; }
@@ -61,12 +62,7 @@ mkdir -p "$tmp/preview" && cp "$tmp/run/plan.yaml" "$tmp/preview/plan.yaml"
 pids+=($!)
 "$acqctl" --socket "$socket" serve --port 0 > "$tmp/serve2.log" 2>&1 &
 pids+=($!)
-url2=""
-for _ in $(seq 50); do
-  url2=$(grep -o 'http://[^ ]*' "$tmp/serve2.log" 2>/dev/null || true)
-  [ -n "$url2" ] && break
-  sleep 0.1
-done
+url2=$(printed_url "$tmp/serve2.log")
 node "$root/tests/live_view_preview.js" "$puppeteer" "$url2" "$shots" || { failures=$((failures + 1)); tail -20 "$tmp/preview.log"; }
 if [ -n "$(ls -A "$tmp/preview/session/frames" 2>/dev/null)" ]; then
   echo "FAIL: the preview recorded frames"; failures=$((failures + 1))

@@ -250,19 +250,7 @@ PbrFitGrid PbrFitGrid::Default(const std::uint8_t* valid, double max_zenith) {
         g.cos_d.push_back(dir.in.dot(half));
         g.cos_weight.push_back(merl::CosWeight(dir));
       }
-  std::vector<std::size_t> order(g.bins.size());
-  for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
-  std::sort(order.begin(), order.end(), [&](auto a, auto b) { return g.bins[a] < g.bins[b]; });
-  PbrFitGrid sorted;
-  for (std::size_t i : order) {
-    sorted.bins.push_back(g.bins[i]);
-    sorted.cos_in.push_back(g.cos_in[i]);
-    sorted.cos_out.push_back(g.cos_out[i]);
-    sorted.cos_h.push_back(g.cos_h[i]);
-    sorted.cos_d.push_back(g.cos_d[i]);
-    sorted.cos_weight.push_back(g.cos_weight[i]);
-  }
-  return sorted;
+  return g;  // ascending: theta_h, then theta_d, then phi_d is the flat index's order
 }
 
 void PbrFitOptions::Check() const {
