@@ -16,8 +16,8 @@ pids=()
 trap 'kill "${pids[@]}" 2>/dev/null; wait 2>/dev/null; rm -rf "$tmp"' EXIT
 shots=${ACQ_LIVE_VIEW_SHOTS:-$tmp}
 mkdir -p "$shots" "$tmp/run"
-# The session test's operator plan (tests/test_session.cpp): processing is never reached, so
-# any basis will do (three components of three materials: a second to build).
+# The session test's operator plan (tests/test_session.cpp) and a small basis (three components
+# of three materials: a second to build), enough for the processing the page shows.
 "$acq" basis build "$data/nbrdf/merl/brass.h5" "$data/nbrdf/merl/white-paint.h5" \
   "$data/nbrdf/merl/black-fabric.h5" --components 3 -o "$tmp/basis.acqb" --quiet > /dev/null
 cat > "$tmp/run/plan.yaml" <<PLAN
@@ -54,6 +54,26 @@ url=$(printed_url "$tmp/serve.log")
 if [ -z "$url" ]; then echo "FAIL: acqctl serve printed no address"; cat "$tmp/serve.log"; exit 1; fi
 case "$url" in http://127.0.0.1:*) echo "ok: bound to 127.0.0.1 by default";; *) echo "FAIL: $url"; failures=$((failures + 1));; esac
 node "$root/tests/live_view.js" "$puppeteer" "$url" "$shots" || { failures=$((failures + 1)); tail -20 "$tmp/acqd.log"; }
+
+# The same plan without prompts, run to its end with the page open: the poses' thumbnails while
+# it runs, the results once processed, kept after acqd ends; then a server given the finished
+# session with no acqd at all.
+kill "${pids[@]}" 2>/dev/null; wait 2>/dev/null; pids=()
+mkdir -p "$tmp/whole" && sed 's/operator: true/operator: false/' "$tmp/run/plan.yaml" > "$tmp/whole/plan.yaml"
+"$acqd" --session "$tmp/whole/plan.yaml" --socket "$socket" > "$tmp/whole.log" 2>&1 &
+pids+=($!)
+"$acqctl" --socket "$socket" serve --port 0 > "$tmp/serve3.log" 2>&1 &
+pids+=($!)
+url3=$(printed_url "$tmp/serve3.log")
+node "$root/tests/live_view_results.js" "$puppeteer" "$url3" "$shots" running || { failures=$((failures + 1)); tail -20 "$tmp/whole.log"; }
+kill "${pids[@]}" 2>/dev/null; wait 2>/dev/null; pids=()
+"$acqctl" --socket "$tmp/none.sock" serve --port 0 --session "$tmp/whole/session" > "$tmp/serve4.log" 2>&1 &
+pids+=($!)
+url4=$(printed_url "$tmp/serve4.log")
+node "$root/tests/live_view_results.js" "$puppeteer" "$url4" "$tmp" finished || failures=$((failures + 1))
+out=$(timeout 5 "$acqctl" serve --port 0 --session "$tmp/no-such-session" 2>&1); rc=$?
+if [ "$rc" -eq 1 ] && grep -qF "is not a folder" <<<"$out"; then echo "ok: --session that is not a folder is a clear error"
+else echo "FAIL: --session not a folder (exit $rc): $out"; failures=$((failures + 1)); fi
 
 # acqd --preview: the camera streaming to the page, the exposure from it; nothing recorded.
 kill "${pids[@]}" 2>/dev/null; wait 2>/dev/null; pids=()

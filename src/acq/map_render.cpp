@@ -6,6 +6,8 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "brdf/pooled_model.h"
+#include "core/angles.h"
 #include "core/colour.h"
 #include "core/error.h"
 #include "io/float_planes_exr.h"
@@ -139,13 +141,15 @@ RowLookup MapRowLookup(const SvbrdfMap& map) {
   return ParseRowLookup(map.info.lookup).value_or(RowLookup::kNearest);
 }
 
+double AutoExposure(std::vector<float> v) {
+  if (v.empty()) return 1.0;
+  const std::size_t at = std::min(v.size() - 1, std::size_t(0.99 * double(v.size())));
+  std::nth_element(v.begin(), v.begin() + at, v.end());
+  return v[at] > 0 ? 0.9 / v[at] : 1.0;
+}
+
 void WritePng(const RgbImage& image, const std::string& path, double exposure) {
-  if (exposure <= 0) {
-    std::vector<float> v(image.rgb);
-    const std::size_t at = std::min(v.size() - 1, std::size_t(0.99 * double(v.size())));
-    std::nth_element(v.begin(), v.begin() + at, v.end());
-    exposure = v[at] > 0 ? 0.9 / v[at] : 1.0;
-  }
+  if (exposure <= 0) exposure = AutoExposure(image.rgb);
   cv::Mat out(image.height, image.width, CV_8UC3);
   for (int y = 0; y < image.height; ++y)
     for (int x = 0; x < image.width; ++x)
@@ -209,12 +213,34 @@ void WriteDiagnosticPng(const SvbrdfMap& map, const std::string& plane, const st
       v.push_back(a);
     }
   const auto [lo, hi] = std::minmax_element(v.begin(), v.end());
-  const double span = *hi > *lo ? *hi - *lo : 1.0;
+  const double span = *hi - *lo;
   cv::Mat out(map.info.height, map.info.width, CV_8UC1);
+  // A plane of one value (every pixel valid, say) has no range: white where it is positive.
   for (int i = 0; i < int(v.size()); ++i)
     out.at<uchar>(i / map.info.width, i % map.info.width) =
-        cv::saturate_cast<uchar>((v[i] - *lo) / span * 255);
+        cv::saturate_cast<uchar>(span > 0 ? (v[i] - *lo) / span * 255 : (v[i] > 0 ? 255 : 0));
   if (!cv::imwrite(path, out)) throw UserError(path, "cannot write PNG");
+}
+
+std::vector<std::string> WriteQuickLooks(const SvbrdfMap& map, const BasisView& basis,
+                                         const std::string& dir, const std::string& prefix) {
+  const RowLookup lookup = MapRowLookup(map);
+  // Diffuse-looking: light 45 degrees off, camera overhead, far from the mirror direction.
+  const ArmAngles diffuse{DegToRad(45), 0, 0, 0};
+  // Specular: light and camera mirrored at 30 degrees (theta_h = 0).
+  const ArmAngles specular{DegToRad(30), 0, DegToRad(30), kPi};
+  const std::string stem = dir + "/" + prefix;
+  WritePng(RenderConfiguration(map, basis, DirectionsOf(diffuse), lookup), stem + "diffuse.png");
+  WritePng(RenderConfiguration(map, basis, DirectionsOf(specular), lookup), stem + "specular.png");
+  std::vector<std::string> names = {"diffuse", "specular"};
+  std::vector<std::string> planes = {"valid", "observations", "condition", "residual"};
+  if (map.info.method == ReconstructionMethodName(ReconstructionMethod::kPooled))
+    planes.insert(planes.end(), {"group", "departure"});
+  for (const std::string& plane : planes) {
+    WriteDiagnosticPng(map, plane, stem + plane + ".png");
+    names.push_back(plane);
+  }
+  return names;
 }
 
 }  // namespace acq

@@ -43,8 +43,12 @@ MerlBrdf PixelAsMerl(const SvbrdfMap& map, const BasisView& basis, int x, int y)
 // The row lookup a map was reconstructed with (its acqRowLookup attribute).
 RowLookup MapRowLookup(const SvbrdfMap& map);
 
-// Linear image to an 8-bit sRGB PNG; `exposure` scales first, 0 picks it so that the 99th
-// percentile maps to 0.9. Throws UserError naming the file when it cannot be written.
+// The exposure that puts the 99th percentile of `values` at 0.9 (1 when that is not positive):
+// the scale of every PNG made from linear values.
+double AutoExposure(std::vector<float> values);
+
+// Linear image to an 8-bit sRGB PNG; `exposure` scales first, 0 picks AutoExposure of all its
+// values. Throws UserError naming the file when it cannot be written.
 void WritePng(const RgbImage& image, const std::string& path, double exposure = 0);
 
 // Linear image to a float EXR (planes R, G, B), for comparisons with other renderers.
@@ -54,5 +58,11 @@ void WriteRgbExr(const RgbImage& image, const std::string& path);
 // (log10), residual, departure; scaled to its own range. "group": a colour per group, black for
 // pixels solved alone.
 void WriteDiagnosticPng(const SvbrdfMap& map, const std::string& plane, const std::string& path);
+
+// The quick looks of a map into `dir` as `prefix`NAME.png: the BRDF at a diffuse-looking and at
+// a mirror configuration (diffuse, specular), and the diagnostics (valid, observations,
+// condition, residual; group and departure for a pooled map). Returns the NAMEs written.
+std::vector<std::string> WriteQuickLooks(const SvbrdfMap& map, const BasisView& basis,
+                                         const std::string& dir, const std::string& prefix);
 
 }  // namespace acq

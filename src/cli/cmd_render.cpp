@@ -43,23 +43,9 @@ int RenderQuicklook(const Argv& argv) {
   const MapAndBasis m = OpenMapAndBasis(args);
   const std::string dir = args.Required("o");
   std::filesystem::create_directories(dir);
-  const RowLookup lookup = MapRowLookup(m.map);
-  // Diffuse-looking: light 45 degrees off, camera overhead, far from the mirror direction.
-  const ArmAngles diffuse{DegToRad(45), 0, 0, 0};
-  // Specular: light and camera mirrored at 30 degrees (theta_h = 0).
-  const ArmAngles specular{DegToRad(30), 0, DegToRad(30), kPi};
-  WritePng(RenderConfiguration(m.map, m.basis.View(), DirectionsOf(diffuse), lookup),
-           dir + "/diffuse.png");
-  WritePng(RenderConfiguration(m.map, m.basis.View(), DirectionsOf(specular), lookup),
-           dir + "/specular.png");
-  std::vector<std::string> planes = {"valid", "observations", "condition", "residual"};
-  if (m.map.info.method == ReconstructionMethodName(ReconstructionMethod::kPooled))
-    planes.insert(planes.end(), {"group", "departure"});
-  std::string names = "diffuse,specular";
-  for (const std::string& plane : planes) {
-    WriteDiagnosticPng(m.map, plane, dir + "/" + plane + ".png");
-    names += "," + plane;
-  }
+  std::string names;
+  for (const std::string& name : WriteQuickLooks(m.map, m.basis.View(), dir, ""))
+    names += (names.empty() ? "" : ",") + name;
   std::printf("wrote %s/{%s}.png\n", dir.c_str(), names.c_str());
   return 0;
 }

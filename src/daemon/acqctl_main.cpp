@@ -109,6 +109,8 @@ int Run(int argc, char** argv) {
   serve->add_option("--port", view.port, "TCP port (0: any free one)")->default_val(view.port);
   serve->add_option("--bind", view.bind, "address to listen on; beyond 127.0.0.1 is warned of")
       ->default_val(view.bind);
+  serve->add_option("--session", view.session,
+                    "a session folder to show (a finished one) until acqd reports its own");
   if (const std::optional<int> exit = acq::ParseArgs(app, argc, argv)) return *exit;
   if (app.get_subcommands().empty()) {
     std::fputs(("acqctl: a command is required\n" + app.help()).c_str(), stderr);

@@ -6,6 +6,8 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <memory>
+#include <mutex>
 #include <nlohmann/json.hpp>
 #include <random>
 #include <sstream>
@@ -59,24 +61,61 @@ json AskAcqd(const std::string& socket, const std::string& request) {
   }
 }
 
-// The session folder acqd reports, or empty.
-std::string SessionFolder(const std::string& socket) {
-  const json s = AskAcqd(socket, "status");
-  return s.contains("session") && s["session"].is_string() ? s["session"].get<std::string>() : "";
-}
+// The session folder being watched: the one acqd reports, and after acqd has ended the last
+// one it reported (or --session's), so that a finished session's results stay on the page.
+class WatchedSession {
+ public:
+  explicit WatchedSession(std::string socket, std::string folder)
+      : socket_(std::move(socket)), folder_(std::move(folder)) {}
+  std::string Folder() {
+    const json s = AskAcqd(socket_, "status");
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (s.contains("session") && s["session"].is_string() &&
+        !s["session"].get<std::string>().empty())
+      folder_ = s["session"].get<std::string>();
+    return folder_;
+  }
 
-// A file the page may show: report.txt, report.json, or a PNG in renders/ (one name, no
-// folders, no dots leading anywhere else).
-bool Servable(const std::string& path) {
-  if (path == "report.txt" || path == "report.json") return true;
-  const std::string prefix = "renders/";
-  if (path.rfind(prefix, 0) != 0) return false;
-  const std::string name = path.substr(prefix.size());
+ private:
+  const std::string socket_;
+  std::mutex mutex_;  // the server answers on several threads
+  std::string folder_;
+};
+
+// One file name of a session folder the page may show: letters, digits, _ - . only, not
+// leading with a dot, ending in `extension`.
+bool PlainName(const std::string& name, const std::string& extension) {
   if (name.empty() || name.size() > 128 || name[0] == '.') return false;
   for (char c : name)
     if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-' || c == '.'))
       return false;
-  return fs::path(name).extension() == ".png";
+  return fs::path(name).extension() == extension;
+}
+
+// The folders of a session whose PNGs the page shows: the poses' thumbnails and the renders.
+constexpr const char* kImageFolders[] = {"hdr", "renders"};
+
+// A file the page may show: report.txt, report.json, or a PNG in one of kImageFolders (one
+// name, no folders below, nothing leading elsewhere).
+bool Servable(const std::string& path) {
+  if (path == "report.txt" || path == "report.json") return true;
+  for (const std::string folder : kImageFolders)
+    if (path.rfind(folder + "/", 0) == 0) return PlainName(path.substr(folder.size() + 1), ".png");
+  return false;
+}
+
+// The PNG names in `folder`, oldest first (the poses in the order they were merged; ties by
+// name).
+json PngsIn(const fs::path& folder) {
+  std::vector<std::pair<fs::file_time_type, std::string>> found;
+  std::error_code ec;
+  for (const auto& e : fs::directory_iterator(folder, ec))
+    if (PlainName(e.path().filename().string(), ".png"))
+      found.emplace_back(e.last_write_time(ec), e.path().filename().string());
+  std::sort(found.begin(), found.end());
+  json names = json::array();
+  for (const auto& f : found) names.push_back(f.second);
+  return names;
 }
 
 void Routes(httplib::Server& server, const LiveViewOptions& o) {
@@ -122,33 +161,29 @@ void Routes(httplib::Server& server, const LiveViewOptions& o) {
       Json(res, {{"ok", false}, {"reply", e.what()}});
     }
   });
-  server.Get("/api/renders", [socket](const httplib::Request&, httplib::Response& res) {
-    const std::string folder = SessionFolder(socket);
-    json out = {{"renders", json::array()}, {"report", false}};
-    if (folder.empty()) return Json(res, out);
-    std::vector<std::string> names;
-    std::error_code ec;
-    for (const auto& e : fs::directory_iterator(fs::path(folder) / "renders", ec))
-      if (Servable("renders/" + e.path().filename().string()))
-        names.push_back(e.path().filename().string());
-    std::sort(names.begin(), names.end());
-    out["renders"] = names;
-    out["report"] = fs::is_regular_file(fs::path(folder) / "report.txt");
+  auto watched = std::make_shared<WatchedSession>(socket, o.session);
+  server.Get("/api/files", [watched](const httplib::Request&, httplib::Response& res) {
+    const std::string folder = watched->Folder();
+    json out = {{"session", folder}, {"report", false}};
+    for (const std::string sub : kImageFolders)
+      out[sub] = folder.empty() ? json::array() : PngsIn(fs::path(folder) / sub);
+    out["report"] = !folder.empty() && fs::is_regular_file(fs::path(folder) / "report.txt");
     Json(res, out);
   });
-  server.Get("/api/file", [socket](const httplib::Request& req, httplib::Response& res) {
+  server.Get("/api/file", [watched](const httplib::Request& req, httplib::Response& res) {
     const std::string path = req.get_param_value("path");
-    const std::string folder = SessionFolder(socket);
-    std::ifstream in(fs::path(folder) / path, std::ios::binary);
-    if (!Servable(path) || folder.empty() || !in) {
+    const std::string folder = watched->Folder();
+    std::ifstream in;
+    if (Servable(path) && !folder.empty()) in.open(fs::path(folder) / path, std::ios::binary);
+    if (!in) {
       res.status = 404;
       return res.set_content("404: no such file of the session\n", "text/plain");
     }
     std::stringstream s;
     s << in.rdbuf();
-    res.set_content(s.str(), path.size() > 4 && path.substr(path.size() - 4) == ".png"
-                                 ? "image/png"
-                                 : "text/plain; charset=utf-8");
+    res.set_content(s.str(), fs::path(path).extension() == ".png"    ? "image/png"
+                             : fs::path(path).extension() == ".json" ? "application/json"
+                                                                     : "text/plain; charset=utf-8");
   });
 }
 
@@ -159,6 +194,9 @@ void LiveViewOptions::Check() const {
     throw UserError("--port", "must be between 0 and 65535, got " + std::to_string(port),
                     "the default is 8080; 0 picks a free port");
   if (bind.empty()) throw UserError("--bind", "is empty", "give an address, e.g. 127.0.0.1");
+  if (!session.empty() && !fs::is_directory(session))
+    throw UserError("--session " + session, "is not a folder",
+                    "give a session folder (the plan's output), e.g. out/sessions/sim-card");
 }
 
 int ServeLiveView(LiveViewOptions o) {

@@ -15,6 +15,7 @@ struct LiveViewOptions {
   std::string bind = "127.0.0.1";  // anything else serves beyond this machine
   int port = 8080;                 // 0: any free port (printed)
   std::string token;               // empty: a random one
+  std::string session;             // a session folder to show until acqd reports one
   void Check() const;              // throws UserError
 };
 

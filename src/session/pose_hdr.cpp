@@ -8,6 +8,7 @@
 #include "core/seconds_since.h"
 #include "hw/frame_file.h"
 #include "io/float_planes_exr.h"
+#include "session/hdr_thumbnail.h"
 
 namespace acq {
 namespace {
@@ -79,8 +80,11 @@ PoseHdr MergePose(const std::string& dir, Step step, int pose,
                   const std::vector<CatalogFrame>& frames, double* seconds) {
   const auto start = SteadyClock::now();
   const std::string path = dir + "/hdr/" + PoseName(step, pose) + ".exr";
+  const std::string thumbnail = dir + "/hdr/" + PoseName(step, pose) + ".png";
   PoseHdr p;
-  if (!ReadUpToDate(path, dir, frames, &p)) {
+  if (ReadUpToDate(path, dir, frames, &p)) {
+    if (!fs::exists(thumbnail)) WriteHdrThumbnail(p.hdr, thumbnail);  // a session from before
+  } else {
     std::vector<Frame> bracket;
     std::map<std::string, std::string> attributes;
     for (const CatalogFrame& f : frames)
@@ -110,6 +114,7 @@ PoseHdr MergePose(const std::string& dir, Step step, int pose,
     file.attributes["direction"] = p.direction;
     fs::create_directories(dir + "/hdr");
     WriteFloatPlanesExr(path, file);
+    WriteHdrThumbnail(p.hdr, thumbnail);
   }
   *seconds += SecondsSince(start);
   return p;

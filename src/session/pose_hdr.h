@@ -1,6 +1,7 @@
 // A capture step's poses as the processing reads them back from the session: each pose's
 // bracket merged into one HDR image, written to hdr/<step>_NNN.exr with the arm angles the
-// gantry measured and the direction recorded with its frames. An hdr file that names exactly the
+// gantry measured and the direction recorded with its frames, and its thumbnail beside it
+// (hdr_thumbnail.h). An hdr file that names exactly the
 // pose's frames and is newer than all of them is read back instead of merging again: the
 // merges made while the capture went on (background.h), and those of an earlier processing run.
 #pragma once

@@ -213,11 +213,15 @@ ProcessReport ProcessSession(const Plan& plan, SessionCatalog& catalog,
   report.reconstruction_s = SecondsSince(start);
   catalog.Event("info", "reconstructed: svbrdf.exr");
 
+  // The renders: the map's quick looks, then each validation view beside its capture.
+  start = SteadyClock::now();
+  const SvbrdfMap map = ReadSvbrdfMap(dir + "/svbrdf.exr");
+  WriteQuickLooks(map, mapped.View(), dir + "/renders", "quicklook_");
+  report.validation_s = SecondsSince(start);
   if (plan.validation.empty()) return report;
   std::vector<SessionView> checks = ViewsOf(plan, Step::kValidation, Step::kSpectralonValidation,
                                             reference, geometry, session, precomputed, &report);
   start = SteadyClock::now();
-  const SvbrdfMap map = ReadSvbrdfMap(dir + "/svbrdf.exr");
   for (std::size_t i = 0; i < checks.size(); ++i) {
     const std::string name = checks[i].name;
     // Named by the validation pose it shows: a pose left out (its board not found) leaves a gap
@@ -234,7 +238,7 @@ ProcessReport ProcessSession(const Plan& plan, SessionCatalog& catalog,
     WriteComparison(r, dir + "/" + s.render);
     report.validation.push_back(s);
   }
-  report.validation_s = SecondsSince(start);
+  report.validation_s += SecondsSince(start);
   return report;
 }
 
