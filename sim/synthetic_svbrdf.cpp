@@ -4,6 +4,8 @@
 #include <limits>
 #include <random>
 
+#include "core/facet_frame.h"
+
 namespace acq::sim {
 
 Eigen::Vector2d SyntheticSvbrdf::PointOf(int pixel) const {
@@ -89,10 +91,22 @@ PixelObservations Observe(const SyntheticSvbrdf& scene, const std::vector<Ground
       obs.light[i] = label.in.cast<float>();
       obs.camera[i] = label.out.cast<float>();
       if (!AboveHorizon(truth)) continue;  // stays NaN: missing
-      const auto rgb = materials[scene.label[pixel]].Value(truth);
+      // A tilted facet: its BRDF in its own frame, measured as if the sample were flat (the
+      // irradiance divided by the sample's cosine, not the facet's); a view the facet turns
+      // away from, or a light it shadows, is missing.
+      DirectionPair facet = truth;
+      double cos_ratio = 1;
+      if (!scene.normal.empty()) {
+        const Eigen::Vector3f& n = scene.normal[pixel];
+        const Eigen::Matrix3d r = FacetFromSample(n).cast<double>();
+        facet = {(r * truth.in).normalized(), (r * truth.out).normalized()};
+        if (!AboveHorizon(facet)) continue;
+        cos_ratio = facet.in.z() / truth.in.z();
+      }
+      const auto rgb = materials[scene.label[pixel]].Value(facet);
       for (int c = 0; c < 3; ++c)
         obs.rgb[3 * i + c] =
-            float(std::max(rgb[c], 0.0) * (1.0 + options.noise_sigma * noise(rng)));
+            float(std::max(rgb[c], 0.0) * cos_ratio * (1.0 + options.noise_sigma * noise(rng)));
     }
   }
   return obs;

@@ -22,6 +22,9 @@ struct SyntheticSvbrdf {
   int width = 0, height = 0;
   double sample_size_mm = 0;        // side of the square sample the reference view covers
   std::vector<std::uint8_t> label;  // material index per pixel, row-major
+  // The true shading normal per pixel in the sample frame (relief.h); empty: flat. A pixel's
+  // material is evaluated in its facet's frame (core/facet_frame.h).
+  std::vector<Eigen::Vector3f> normal;
   Eigen::Vector2d PointOf(int pixel) const;
   // The material under a sample-plane point (mm, the card centred at the origin): the label of
   // the cell it falls in, -1 off the card. The one rule the renderer and the scoring share.

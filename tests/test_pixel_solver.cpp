@@ -4,6 +4,7 @@
 
 #include <Eigen/Eigenvalues>
 #include <cstdio>
+#include <filesystem>
 
 #include "acq/correspondence_source.h"
 #include "acq/map_render.h"
@@ -13,14 +14,17 @@
 #include "brdf/evaluation.h"
 #include "brdf/fov_evaluation.h"
 #include "brdf/log_mapping.h"
+#include "brdf/normal_search.h"
 #include "brdf/pixel_solver.h"
 #include "brdf/pooled_solver.h"
 #include "calib/correspondence.h"
 #include "calib/synthetic_board.h"
 #include "core/angles.h"
 #include "core/error.h"
+#include "core/facet_frame.h"
 #include "io/float_planes_exr.h"
 #include "issue_split.h"
+#include "sim/relief.h"
 #include "sim/sample_layouts.h"
 #include "sim/sim_gige_camera.h"
 #include "sim/synthetic_svbrdf.h"
@@ -765,4 +769,114 @@ TEST_CASE("samples: blends are exact mixtures, files are checked", "[pixel][samp
   const sim::MixedSample ok = sim::ReadSampleWeights(dir / "weights.exr", names, 10.0);
   CHECK(ok.mixtures.size() == 2);
   CHECK(ok.Names(names)[ok.layout.label[1]] == "0.5 white-paint + 0.5 brass");
+}
+
+// Per-pixel normals (issue 19).
+
+TEST_CASE("a tilted facet's observations, turned into its frame, are its BRDF there", "[normals]") {
+  const Fixture& d = Data();
+  sim::SyntheticSvbrdf scene = sim::MakeCardLayout(4, 4, 20.0, 1, 1);
+  const Eigen::Vector3f n = NormalOfSlope(0.12f, -0.07f);  // 7.9 degrees
+  scene.normal.assign(scene.label.size(), n);
+  const std::vector<sim::GroundTruth> brass = {d.continuous[1]};
+  const PixelObservations obs =
+      sim::SyntheticObservations(scene, brass, d.views, {}, 0, int(scene.label.size()));
+  PixelObservations turned;
+  turned.Resize(obs.pixels, obs.views);
+  int compared = 0;
+  for (int p = 0; p < obs.pixels; ++p) {
+    ToFacetFrame(n, 0.0, obs, p, &turned, p);
+    for (int v = 0; v < obs.views; ++v) {
+      const std::size_t i = obs.At(p, v);
+      if (std::isnan(obs.rgb[3 * i])) continue;
+      const auto truth =
+          brass[0].Value({turned.light[i].cast<double>(), turned.camera[i].cast<double>()});
+      // float directions and values: 1e-3 relative is a few float roundings of a steep lobe.
+      for (int c = 0; c < 3; ++c)
+        CHECK(turned.rgb[3 * i + c] == Approx(truth[c]).epsilon(1e-3).margin(1e-6));
+      ++compared;
+    }
+  }
+  CHECK(compared > obs.pixels * obs.views / 2);
+}
+
+TEST_CASE("normals of an embossed glossy card are recovered; flat areas stay flat", "[normals]") {
+  const Fixture& d = Data();
+  sim::SyntheticSvbrdf scene =
+      sim::MakeCardLayout(48, 48, 2000.0 * std::tan(DegToRad(2.0)), 1, 1);  // 4 degrees at 1 m
+  // One material (brass): the relief is the raised border; 10 degree slopes.
+  sim::ReliefOptions relief;
+  relief.slope_deg = 10;
+  relief.border_share = 0.15;
+  sim::SetNormalsFromHeight(&scene, sim::CardRelief(scene, relief));
+  sim::ObservationOptions o;
+  o.geometry.sample_size_mm = scene.sample_size_mm;
+  PixelObservations obs =
+      sim::SyntheticObservations(scene, {d.continuous[1]}, d.views, o, 0, int(scene.label.size()));
+  NormalSearchOptions search;
+  search.enabled = true;
+  search.prior = 2;
+  const PixelNormals normals = EstimateNormals(d.basis.View(), &obs, PerPixel(), search);
+  std::vector<double> relief_error, flat_error, assumed_error;
+  for (std::size_t p = 0; p < scene.label.size(); ++p) {
+    const Eigen::Vector3f truth = scene.normal[p];
+    REQUIRE(normals.normal[p].allFinite());
+    CHECK(normals.normal[p].norm() == Approx(1.0).epsilon(1e-5));
+    const double tilt = NormalAngle(truth, Eigen::Vector3f::UnitZ());
+    const double error = RadToDeg(NormalAngle(truth, normals.normal[p]));
+    if (tilt > DegToRad(0.5)) {
+      relief_error.push_back(error);
+      assumed_error.push_back(RadToDeg(tilt));
+    }
+    if (tilt < DegToRad(0.05)) flat_error.push_back(error);
+  }
+  REQUIRE(relief_error.size() > 100);
+  REQUIRE(flat_error.size() > 100);
+  // The issue's goals (2 degrees over the relief, 0.5 of false tilt on flat areas); measured
+  // here 0.7 and 0.2 on a 96 x 96 card, against 4.6 degrees for the sample's normal assumed.
+  CHECK(Median(relief_error) < 2.0);
+  CHECK(Median(flat_error) < 0.5);
+  CHECK(Median(assumed_error) > 3.0);
+}
+
+TEST_CASE("relief too steep for the search: refused or estimated, never NaN", "[normals]") {
+  const Fixture& d = Data();
+  sim::SyntheticSvbrdf scene = sim::MakeCardLayout(16, 16, 10.0, 2, 1);
+  sim::ReliefOptions relief;
+  relief.slope_deg = 45;  // beyond the 25 degree cone
+  sim::SetNormalsFromHeight(&scene, sim::CardRelief(scene, relief));
+  PixelObservations obs = sim::SyntheticObservations(scene, {d.continuous[0], d.continuous[1]},
+                                                     d.views, {}, 0, int(scene.label.size()));
+  NormalSearchOptions search;
+  search.enabled = true;
+  const PixelNormals normals = EstimateNormals(d.basis.View(), &obs, PerPixel(), search);
+  int refused = 0;
+  for (std::size_t p = 0; p < scene.label.size(); ++p) {
+    REQUIRE(normals.normal[p].allFinite());
+    refused += normals.status[p] == NormalStatus::kRefused;
+    if (normals.status[p] == NormalStatus::kRefused)
+      CHECK(normals.normal[p] == Eigen::Vector3f::UnitZ());
+  }
+  for (float v : obs.rgb) CHECK_FALSE(std::isinf(v));
+  CHECK(refused > 0);
+}
+
+TEST_CASE("a height map of the wrong size is refused, naming both sizes", "[normals]") {
+  const std::string path = std::filesystem::temp_directory_path() / "acq_height_wrong.exr";
+  FloatPlanes planes;
+  planes.width = 8;
+  planes.height = 6;
+  planes.planes["height"].assign(48, 0.0f);
+  WriteFloatPlanesExr(path, planes);
+  try {
+    sim::ReadHeightMap(path, 16, 16, 8.0);
+    FAIL("accepted");
+  } catch (const UserError& e) {
+    CHECK_THAT(e.what(), Catch::Contains("8x6") && Catch::Contains("16x16"));
+  }
+  planes.planes.clear();
+  planes.planes["z"].assign(48, 0.0f);
+  WriteFloatPlanesExr(path, planes);
+  CHECK_THROWS_WITH(sim::ReadHeightMap(path, 8, 6, 8.0), Catch::Contains("'height'"));
+  std::filesystem::remove(path);
 }

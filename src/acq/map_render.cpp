@@ -6,10 +6,12 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "brdf/normal_search.h"
 #include "brdf/pooled_model.h"
 #include "core/angles.h"
 #include "core/colour.h"
 #include "core/error.h"
+#include "core/facet_frame.h"
 #include "io/float_planes_exr.h"
 
 namespace acq {
@@ -40,6 +42,23 @@ std::vector<float> PixelCoefficients(const SvbrdfMap& map, int x, int y) {
   return all;
 }
 
+std::array<double, 3> MapBrdfAt(const SvbrdfMap& map, const BasisView& basis, int x, int y,
+                                const Eigen::Vector3d& in, const Eigen::Vector3d& out,
+                                RowLookup lookup) {
+  const std::vector<float> c = PixelCoefficients(map, x, y);
+  if (map.Plane("normal_status", x, y) != float(NormalStatus::kEstimated))
+    return BrdfFromCoefficients(basis, c.data(), map.info.components, in, out, lookup);
+  const Eigen::Vector3f n(map.Plane("normal.x", x, y), map.Plane("normal.y", x, y),
+                          map.Plane("normal.z", x, y));
+  const Eigen::Matrix3d r = FacetFromSample(n.normalized()).cast<double>();
+  const Eigen::Vector3d fi = (r * in).normalized(), fo = (r * out).normalized();
+  if (!(fi.z() > 0 && fo.z() > 0 && in.z() > 0)) return {0, 0, 0};
+  std::array<double, 3> rho =
+      BrdfFromCoefficients(basis, c.data(), map.info.components, fi, fo, lookup);
+  for (double& v : rho) v *= fi.z() / in.z();
+  return rho;
+}
+
 RgbImage RenderView(const SvbrdfMap& map, const BasisView& basis, const ArmAngles& arms,
                     const NearFieldGeometry& geometry, RowLookup lookup) {
   CheckBasis(map, basis);
@@ -53,9 +72,7 @@ RgbImage RenderView(const SvbrdfMap& map, const BasisView& basis, const ArmAngle
       const Eigen::Vector2d p = PointOf(map, x, y);
       const DirectionPair d = geometry.DirectionsAt(far, p);
       const double r_m = (light_pos - Eigen::Vector3d(p.x(), p.y(), 0)).norm() / 1000.0;
-      const std::vector<float> c = PixelCoefficients(map, x, y);
-      const auto rho =
-          BrdfFromCoefficients(basis, c.data(), map.info.components, d.in, d.out, lookup);
+      const auto rho = MapBrdfAt(map, basis, x, y, d.in, d.out, lookup);
       for (int ch = 0; ch < 3; ++ch)
         img.rgb[(std::size_t(y) * img.width + x) * 3 + ch] =
             float(rho[ch] * std::max(d.in.z(), 0.0) / (r_m * r_m));
@@ -72,9 +89,7 @@ RgbImage RenderConfiguration(const SvbrdfMap& map, const BasisView& basis, const
 #pragma omp parallel for schedule(dynamic, 8)
   for (int y = 0; y < img.height; ++y)
     for (int x = 0; x < img.width; ++x) {
-      const std::vector<float> c = PixelCoefficients(map, x, y);
-      const auto rho =
-          BrdfFromCoefficients(basis, c.data(), map.info.components, d.in, d.out, lookup);
+      const auto rho = MapBrdfAt(map, basis, x, y, d.in, d.out, lookup);
       for (int ch = 0; ch < 3; ++ch)
         img.rgb[(std::size_t(y) * img.width + x) * 3 + ch] = float(rho[ch]);
     }
@@ -188,6 +203,27 @@ void WriteGroupPng(const SvbrdfMap& map, const std::string& path) {
 
 }  // namespace
 
+bool HasEstimatedNormals(const SvbrdfMap& map) {
+  for (int y = 0; y < map.info.height; ++y)
+    for (int x = 0; x < map.info.width; ++x)
+      if (map.Plane("normal_status", x, y) != 0) return true;
+  return false;
+}
+
+// The normal map in the usual colour convention: (n + 1) / 2 as R, G, B, 8 bits, no gamma
+// (flat is (128, 128, 255)).
+void WriteNormalPng(const SvbrdfMap& map, const std::string& path) {
+  cv::Mat out(map.info.height, map.info.width, CV_8UC3);
+  for (int y = 0; y < map.info.height; ++y)
+    for (int x = 0; x < map.info.width; ++x) {
+      const char* axes[3] = {"normal.x", "normal.y", "normal.z"};
+      for (int a = 0; a < 3; ++a)
+        out.at<cv::Vec3b>(y, x)[2 - a] =
+            cv::saturate_cast<uchar>((map.Plane(axes[a], x, y) + 1.0) * 127.5);  // BGR
+    }
+  if (!cv::imwrite(path, out)) throw UserError(path, "cannot write PNG");
+}
+
 void WriteRgbExr(const RgbImage& image, const std::string& path) {
   FloatPlanes planes;
   planes.width = image.width;
@@ -239,6 +275,10 @@ std::vector<std::string> WriteQuickLooks(const SvbrdfMap& map, const BasisView& 
   for (const std::string& plane : planes) {
     WriteDiagnosticPng(map, plane, stem + plane + ".png");
     names.push_back(plane);
+  }
+  if (HasEstimatedNormals(map)) {
+    WriteNormalPng(map, stem + "normal.png");
+    names.push_back("normal");
   }
   return names;
 }

@@ -21,6 +21,14 @@ struct RgbImage {
 // The map's coefficients of a pixel, R then G then B (3 x k), as BrdfFromCoefficients takes them.
 std::vector<float> PixelCoefficients(const SvbrdfMap& map, int x, int y);
 
+// The pixel's BRDF as a measurement in the sample frame sees it: its coefficients describe the
+// BRDF in its facet's frame (the map's normal; core/facet_frame.h), so the directions are turned
+// into that frame and the value scaled by (n . l) / l.z; 0 where the facet turns from the light
+// or the view. For a pixel with the sample's normal, simply its BRDF.
+std::array<double, 3> MapBrdfAt(const SvbrdfMap& map, const BasisView& basis, int x, int y,
+                                const Eigen::Vector3d& in, const Eigen::Vector3d& out,
+                                RowLookup lookup);
+
 // Relative radiance of every reference pixel for a light of unit intensity at the arms' light
 // pose and the camera at theirs, each pixel with its own near-field directions:
 // L = rho(w_i, w_o) cos(theta_i) / r_light^2 (scaled so a light at 1 m gives rho cos).
@@ -59,9 +67,16 @@ void WriteRgbExr(const RgbImage& image, const std::string& path);
 // pixels solved alone.
 void WriteDiagnosticPng(const SvbrdfMap& map, const std::string& plane, const std::string& path);
 
+// Whether any pixel's normal was estimated or refused (normal_status not 0).
+bool HasEstimatedNormals(const SvbrdfMap& map);
+
+// The map's normals as a PNG in the usual normal-map colour convention, (n + 1) / 2, linear.
+void WriteNormalPng(const SvbrdfMap& map, const std::string& path);
+
 // The quick looks of a map into `dir` as `prefix`NAME.png: the BRDF at a diffuse-looking and at
 // a mirror configuration (diffuse, specular), and the diagnostics (valid, observations,
-// condition, residual; group and departure for a pooled map). Returns the NAMEs written.
+// condition, residual; group and departure for a pooled map; normal where normals were
+// estimated). Returns the NAMEs written.
 std::vector<std::string> WriteQuickLooks(const SvbrdfMap& map, const BasisView& basis,
                                          const std::string& dir, const std::string& prefix);
 

@@ -38,6 +38,7 @@ PixelObservations ReadSample(ObservationSource& source, const ReconstructionOpti
 void ReconstructionOptions::Check(const BasisView& basis) const {
   solve.Check(basis);
   pooled.Check();
+  normals.Check(basis);
   if (band_rows < 1) throw UserError("--band-rows", "must be at least 1");
   // Tiles that share rows never cross a band: keep whole tiles in a band, so the result does
   // not depend on how the image is streamed.
@@ -59,6 +60,9 @@ void ReconstructionReport::Print() const {
     std::printf("pooled: %ld pixels with their group's prior, %ld alone; model %.2f s\n", pooled,
                 pixels - pooled, model_seconds);
   }
+  if (normals_estimated + normals_refused > 0 || normal_seconds > 0)
+    std::printf("normals: %ld estimated, %ld refused (the sample's normal kept); %.2f s\n",
+                normals_estimated, normals_refused, normal_seconds);
   std::printf("time: %.3f s solving, %.2f s in all: %.3f megapixels/s\n", solve_seconds,
               total_seconds, total_seconds > 0 ? double(pixels) / total_seconds / 1e6 : 0.0);
 }
@@ -74,8 +78,10 @@ ReconstructionReport Reconstruct(const BasisView& basis, ObservationSource& sour
   report.method = options.method;
   const bool pooled = options.method == ReconstructionMethod::kPooled;
   if (pooled) {
-    report.model =
-        FitPooledModel(basis, ReadSample(source, options), options.solve, options.pooled);
+    // The model is fitted on the sample's observations in their facets' frames, as it is used.
+    PixelObservations sample = ReadSample(source, options);
+    EstimateNormals(basis, &sample, options.solve, options.normals);
+    report.model = FitPooledModel(basis, sample, options.solve, options.pooled);
     report.model_seconds = std::chrono::duration<double>(Clock::now() - start).count();
     info.model = report.model.Summary();
   }
@@ -94,7 +100,10 @@ ReconstructionReport Reconstruct(const BasisView& basis, ObservationSource& sour
   Progress progress("reconstruct: rows", std::size_t(h), options.progress);
   for (int y0 = 0; y0 < h; y0 += options.band_rows) {
     const int rows = std::min(options.band_rows, h - y0);
-    const PixelObservations obs = source.Rows(y0, rows);
+    PixelObservations obs = source.Rows(y0, rows);
+    const auto normal_start = Clock::now();
+    const PixelNormals normals = EstimateNormals(basis, &obs, options.solve, options.normals);
+    report.normal_seconds += std::chrono::duration<double>(Clock::now() - normal_start).count();
     PixelSolution solution;
     solution.Resize(obs.pixels, k);
     const auto solve_start = Clock::now();
@@ -114,6 +123,10 @@ ReconstructionReport Reconstruct(const BasisView& basis, ObservationSource& sour
       band[3 * k + 3][p] = solution.residual[p];
       band[3 * k + 4][p] = solution.group[p];
       band[3 * k + 5][p] = solution.departure[p];
+      for (int a = 0; a < 3; ++a) band[3 * k + 6 + a][p] = normals.normal[p][a];
+      band[3 * k + 9][p] = float(normals.status[p]);
+      report.normals_estimated += normals.status[p] == NormalStatus::kEstimated;
+      report.normals_refused += normals.status[p] == NormalStatus::kRefused;
       report.pooled += solution.group[p] >= 0;
       ++report.pixels;
       if (solution.valid[p]) {

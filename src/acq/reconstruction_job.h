@@ -5,6 +5,7 @@
 
 #include <string>
 
+#include "brdf/normal_search.h"
 #include "brdf/pixel_solver.h"
 #include "brdf/pooled_model.h"
 #include "io/svbrdf_map.h"
@@ -14,8 +15,9 @@ namespace acq {
 struct ReconstructionOptions {
   ReconstructionMethod method = kDefaultReconstructionMethod;
   PixelSolveOptions solve;
-  PooledOptions pooled;  // with method kPooled
-  int band_rows = 64;    // rows solved and written at a time
+  PooledOptions pooled;         // with method kPooled
+  NormalSearchOptions normals;  // enabled: each pixel's normal estimated before its solve
+  int band_rows = 64;           // rows solved and written at a time
   bool progress = true;
   void Check(const BasisView& basis) const;
 };
@@ -29,6 +31,8 @@ struct ReconstructionReport {
   PooledModel model;         // kPooled: the groups and model sizes chosen
   long pooled = 0;           // kPooled: pixels solved with their group's prior (the rest alone)
   double model_seconds = 0;  // kPooled: reading the sample and fitting the model
+  long normals_estimated = 0, normals_refused = 0;  // normals.enabled
+  double normal_seconds = 0;
   double solve_seconds = 0, total_seconds = 0;
   void Print() const;
 };

@@ -12,8 +12,7 @@ namespace acq {
 PixelBrdf MapPixelBrdf(const SvbrdfMap& map, const BasisView& basis, RowLookup lookup) {
   return
       [&map, &basis, lookup](int x, int y, const Eigen::Vector3d& in, const Eigen::Vector3d& out) {
-        const std::vector<float> c = PixelCoefficients(map, x, y);
-        return BrdfFromCoefficients(basis, c.data(), map.info.components, in, out, lookup);
+        return MapBrdfAt(map, basis, x, y, in, out, lookup);
       };
 }
 

@@ -79,6 +79,8 @@ const std::map<std::string, Command>& Commands() {
         "    [--sample-size-mm S] [--quiet]\n"
         "    [--method pooled|independent] [--groups 0] [--max-groups 64] [--sample-pixels 8192]\n"
         "    [--sample card|blend|marble|text | --sample-labels PNG|EXR | --sample-weights EXR]\n"
+        "    [--relief-deg S [--fibre-deg F] | --height-map EXR|PNG] [--normals\n"
+        "    [--normals-max-tilt-deg 25] [--normals-prior 0.05] [--normals-k 8]]\n"
         "  Reconstructs a synthetic printed card from observations made straight from the\n"
         "  ground truth, per pixel, into an SVBRDF map (docs/svbrdf-map.md); --score compares\n"
         "  every pixel with its true material. --method pooled groups the pixels by material\n"
@@ -86,7 +88,10 @@ const std::map<std::string, Command>& Commands() {
         "  --groups forces the number of groups (0: chosen by held-out views). --sample picks a\n"
         "  built-in sample of the materials (blend, marble and text use the first two); a label\n"
         "  image holds each pixel's index into --materials, a weight image one channel per\n"
-        "  material, named as it, summing to one (docs/reconstruction.md)."}},
+        "  material, named as it, summing to one (docs/reconstruction.md). --relief-deg embosses\n"
+        "  what is printed and raises a border (steepest slope S degrees; --fibre-deg adds paper\n"
+        "  fibre); --height-map gives heights in pixels (EXR plane 'height'; a PNG's full scale\n"
+        "  is 8 pixels); --normals estimates each pixel's normal with its BRDF."}},
       {"export pbr",
        {ExportPbr,
         "acq export pbr --map MAP.exr -o DIR [--basis BASIS] [--session SESSION] [--name NAME]\n"

@@ -1,5 +1,6 @@
 #include <cstdio>
 #include <filesystem>
+#include <limits>
 #include <map>
 
 #include "acq/map_score.h"
@@ -13,6 +14,8 @@
 #include "cli/geometry_args.h"
 #include "core/angles.h"
 #include "core/error.h"
+#include "core/facet_frame.h"
+#include "sim/relief.h"
 #include "sim/sample_layouts.h"
 #include "sim/synthetic_svbrdf.h"
 
@@ -82,6 +85,53 @@ void ParseSize(const std::string& s, int* w, int* h) {
 
 }  // namespace
 
+// The relief the options ask for (--relief-deg: the built-in embossing; --height-map: a file),
+// as the scene's true normals.
+void AddRelief(const Args& args, sim::SyntheticSvbrdf* layout) {
+  if (args.Has("relief-deg") && args.Has("height-map"))
+    throw UserError("--height-map", "give --relief-deg or --height-map, not both");
+  std::vector<float> height;
+  if (args.Has("height-map")) {
+    height = sim::ReadHeightMap(args.Get("height-map"), layout->width, layout->height, 8.0);
+  } else if (args.Has("relief-deg") || args.Has("fibre-deg")) {
+    sim::ReliefOptions relief;
+    relief.slope_deg = args.GetDouble("relief-deg", 0, 0, 59.9);
+    relief.fibre_deg = args.GetDouble("fibre-deg", 0, 0, 29.9);
+    relief.seed = std::uint64_t(args.GetInt("seed", 1));
+    height = sim::CardRelief(*layout, relief);
+  } else {
+    return;
+  }
+  sim::SetNormalsFromHeight(layout, height);
+}
+
+// The recovered normals against the scene's: the median angular error over the relief (true
+// tilt over 0.5 degree) and the median false tilt on flat areas (true tilt under 0.05 degree).
+void PrintNormalScore(const SvbrdfMap& map, const sim::SyntheticSvbrdf& scene) {
+  std::vector<double> relief, flat;
+  long refused = 0;
+  for (int y = 0; y < scene.height; ++y)
+    for (int x = 0; x < scene.width; ++x) {
+      const Eigen::Vector3f truth = scene.normal[std::size_t(y) * scene.width + x];
+      const Eigen::Vector3f got(map.Plane("normal.x", x, y), map.Plane("normal.y", x, y),
+                                map.Plane("normal.z", x, y));
+      refused += map.Plane("normal_status", x, y) == float(NormalStatus::kRefused);
+      const double tilt = NormalAngle(truth, Eigen::Vector3f::UnitZ());
+      const double error = RadToDeg(NormalAngle(truth, got.normalized()));
+      if (tilt > DegToRad(0.5)) relief.push_back(error);
+      if (tilt < DegToRad(0.05)) flat.push_back(error);
+    }
+  auto median = [](std::vector<double> v) {
+    if (v.empty()) return std::numeric_limits<double>::quiet_NaN();
+    std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
+    return v[v.size() / 2];
+  };
+  std::printf(
+      "score: normals: median angular error %.3f deg over the relief (%zu pixels), median "
+      "false tilt %.3f deg on flat areas (%zu pixels), %ld refused\n",
+      median(relief), relief.size(), median(flat), flat.size(), refused);
+}
+
 int ReconstructSynthetic(const Argv& argv) {
   std::set<std::string> valued = {"basis",
                                   "directions",
@@ -106,10 +156,16 @@ int ReconstructSynthetic(const Argv& argv) {
                                   "sample-pixels",
                                   "sample",
                                   "sample-labels",
-                                  "sample-weights"};
+                                  "sample-weights",
+                                  "relief-deg",
+                                  "fibre-deg",
+                                  "height-map",
+                                  "normals-max-tilt-deg",
+                                  "normals-prior",
+                                  "normals-k"};
   valued.insert(kGeometryOptions.begin(), kGeometryOptions.end());
   const Args args("acq reconstruct synthetic", argv, valued,
-                  {"ignore-near-field", "truth-tables", "score", "quiet"});
+                  {"ignore-near-field", "truth-tables", "score", "quiet", "normals"});
   const std::string basis_path = args.Required("basis"), out = args.Required("o");
   // The options that are numbers, checked before any file is read.
   int w = 0, h = 0;
@@ -148,7 +204,8 @@ int ReconstructSynthetic(const Argv& argv) {
   o.centre_directions = args.Has("ignore-near-field");
   o.noise_sigma = noise;
   o.seed = std::uint64_t(args.GetInt("seed", 1));
-  const sim::MixedSample sample = SampleFrom(args, names, w, h, o);
+  sim::MixedSample sample = SampleFrom(args, names, w, h, o);
+  AddRelief(args, &sample.layout);
   const std::vector<sim::GroundTruth> truth = sample.Truths(base);
   sim::SyntheticSource source(sample.layout, truth, views, o);
   w = sample.layout.width, h = sample.layout.height;
@@ -167,6 +224,10 @@ int ReconstructSynthetic(const Argv& argv) {
   r.pooled.max_groups = args.GetInt("max-groups", r.pooled.max_groups, 1, 1024);
   r.pooled.sample_pixels = args.GetInt("sample-pixels", r.pooled.sample_pixels, 64, 1 << 20);
   r.pooled.seed = o.seed;
+  r.normals.enabled = args.Has("normals");
+  r.normals.max_tilt_deg = args.GetDouble("normals-max-tilt-deg", r.normals.max_tilt_deg, 1, 59);
+  r.normals.prior = args.GetDouble("normals-prior", r.normals.prior, 0, 1e6);
+  r.normals.components = args.GetInt("normals-k", r.normals.components, 1, 64);
   r.progress = !args.Has("quiet");
   SvbrdfMapInfo info;
   info.basis = basis_path;
@@ -233,6 +294,7 @@ int ReconstructSynthetic(const Argv& argv) {
       std::printf("score: material %s median per-pixel log-space RMSE %.4f;%s\n",
                   sample_names[m].c_str(), score.material_median_log_rmse[m], in.c_str());
     }
+    if (!source.scene().normal.empty()) PrintNormalScore(map, source.scene());
   }
   return 0;
 }

@@ -24,12 +24,15 @@ namespace acq {
 namespace {
 
 constexpr const char* kFormat = "acq-svbrdf-map 1";
-const std::vector<std::string> kDiagnostics = {"valid",    "observations", "condition",
-                                               "residual", "group",        "departure"};
+const std::vector<std::string> kDiagnostics = {"valid",    "observations", "condition", "residual",
+                                               "group",    "departure",    "normal.x",  "normal.y",
+                                               "normal.z", "normal_status"};
 // Diagnostics a map may lack (written before they existed), with the value they read as.
 float OptionalDiagnostic(const std::string& name) {
   if (name == "group") return -1.0f;
-  if (name == "departure") return 0.0f;
+  if (name == "departure" || name == "normal.x" || name == "normal.y") return 0.0f;
+  if (name == "normal.z") return 1.0f;
+  if (name == "normal_status") return 0.0f;
   return std::numeric_limits<float>::quiet_NaN();
 }
 

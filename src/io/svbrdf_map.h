@@ -4,7 +4,10 @@
 // used), "condition" (of the pixel's sampled rows; inf when fewer views than components),
 // "residual" (RMS log-space misfit at the observations), "group" (the pooled reconstruction's
 // material group of the pixel, -1 when solved alone), "departure" (RMS log-space distance of the
-// pixel's BRDF from its group's centre). Header attributes name the basis and its
+// pixel's BRDF from its group's centre), "normal.x", "normal.y", "normal.z" (the pixel's shading
+// normal in the sample frame, its tangent space; (0, 0, 1) unless estimated) and
+// "normal_status" (brdf/normal_search.h NormalStatus: 0 assumed, 1 estimated, 2 refused).
+// Header attributes name the basis and its
 // checksum, the solve settings, the reference camera model and the pixel size on the sample.
 //
 // Written band by band in increasing y, so a 16-megapixel map never has to be in memory whole;
@@ -32,8 +35,9 @@ struct SvbrdfMapInfo {
   std::string model;                   // the pooled model's summary (PooledModel::Summary)
 };
 
-// Channel names in file order: 3 k coefficient channels, then the six per-pixel diagnostics.
-// Maps written before "group" and "departure" existed read with -1 and 0 there.
+// Channel names in file order: 3 k coefficient channels, then the ten per-pixel diagnostics.
+// Maps written before "group", "departure" and the normal existed read with -1, 0 and a flat,
+// assumed normal there.
 std::vector<std::string> SvbrdfChannelNames(int components);
 
 class SvbrdfMapWriter {

@@ -1,0 +1,62 @@
+// Per-pixel shading normals recovered with the BRDF (issue 19; docs/reconstruction.md,
+// "Normals"). For each pixel a candidate normal re-expresses its observations in that facet's
+// frame (core/facet_frame.h: directions turned, values rescaled by n.l / l.z); a ridge solve of
+// `components` coefficients gives the misfit there, and the normal minimises
+//   residual(n) + prior * tan^2(tilt(n)),
+// the prior keeping it near the sample's normal where the data say little. The search is
+// coarse-to-fine on the slope (tan(tilt) cos(azimuth), tan(tilt) sin(azimuth)): a 5 x 5 grid over
+// the cone of `max_tilt_deg`, then `levels` 3 x 3 refinements each halving the step. Each level
+// is one batch of the ordinary per-pixel solver (pixel_solver.h), one pseudo-pixel per
+// candidate. The chosen normal's observations replace the pixel's, so any reconstruction
+// (independent or pooled) then solves in the facet's frame.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "brdf/pixel_solver.h"
+
+namespace acq {
+
+enum class NormalStatus : std::uint8_t {
+  kAssumed = 0,    // not estimated: the sample's normal (search off, or no usable view)
+  kEstimated = 1,  // the search's minimum, inside its cone
+  kRefused = 2,    // the minimum lay on the cone's edge (relief too steep for the search, or
+                   // the data cannot tell): the sample's normal kept, flagged
+};
+
+struct NormalSearchOptions {
+  bool enabled = false;
+  double max_tilt_deg = 25;  // the cone searched around the sample's normal
+  int components = 8;        // k of the search's solves (fewer than the views: identifiable)
+  double eta = kDefaultEta;
+  double prior = 0.05;  // weight of tan^2(tilt) against the RMS log-space residual
+  int levels = 6;       // refinements after the coarse grid (the last step: cone / 128)
+  // A view or light at or below this cosine to a candidate facet is not used. 0: only those
+  // behind it; anything more drops the grazing views the flat solve uses (the seed paper's set
+  // has lights at 85 degrees), which alone raised a flat brass card's error from 0.285 to 0.335.
+  double min_cos = 0;
+  int chunk_pixels = 2048;  // pixels per batch of candidates (memory: chunk x 25 x views)
+  void Check(const BasisView& basis) const;  // throws UserError
+};
+
+struct PixelNormals {
+  std::vector<Eigen::Vector3f> normal;  // per pixel, sample frame, unit
+  std::vector<NormalStatus> status;
+  void Resize(int pixels);  // flat, kAssumed
+};
+
+// Chooses every pixel's normal and rewrites `observations` into its facet's frame (pixels
+// refused or assumed keep theirs). `solve` supplies the lookup and the minimum of views. Each
+// candidate is scored by an independent solve of options.components (scoring by the pooled
+// solve, the group's prior, was tried: 16k pixels took 72 s and no candidate came out valid;
+// not pursued yet: docs/reconstruction.md, "Normals").
+PixelNormals EstimateNormals(const BasisView& basis, PixelObservations* observations,
+                             const PixelSolveOptions& solve, const NormalSearchOptions& options);
+
+// One pixel's observations turned into the frame of normal n (what the search tries and what it
+// applies): values rescaled by n.l / l.z, views grazing the facet (cos below min_cos) missing.
+void ToFacetFrame(const Eigen::Vector3f& n, double min_cos, const PixelObservations& from,
+                  int pixel, PixelObservations* to, int to_pixel);
+
+}  // namespace acq
