@@ -3,12 +3,14 @@
 #include <signal.h>
 
 #include <httplib.h>
+#include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <memory>
 #include <mutex>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <random>
 #include <sstream>
 #include <thread>
@@ -67,9 +69,14 @@ class WatchedSession {
  public:
   explicit WatchedSession(std::string socket, std::string folder)
       : socket_(std::move(socket)), folder_(std::move(folder)) {}
+  // Asks acqd at most every kRecheck (a session's folder does not change while it runs; a file
+  // fetch should not cost a control request).
   std::string Folder() {
-    const json s = AskAcqd(socket_, "status");
     std::lock_guard<std::mutex> lock(mutex_);
+    const auto now = std::chrono::steady_clock::now();
+    if (asked_ && now - *asked_ < kRecheck) return folder_;
+    asked_ = now;
+    const json s = AskAcqd(socket_, "status");
     if (s.contains("session") && s["session"].is_string() &&
         !s["session"].get<std::string>().empty())
       folder_ = s["session"].get<std::string>();
@@ -77,9 +84,11 @@ class WatchedSession {
   }
 
  private:
+  static constexpr std::chrono::seconds kRecheck{5};
   const std::string socket_;
   std::mutex mutex_;  // the server answers on several threads
   std::string folder_;
+  std::optional<std::chrono::steady_clock::time_point> asked_;
 };
 
 // One file name of a session folder the page may show: letters, digits, _ - . only, not
