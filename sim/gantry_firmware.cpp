@@ -124,7 +124,7 @@ gp_message SimGantryFirmware::Handle(const gp_message& m) {
       if (m.body.CLEAR_FAULT.fault_bits & GP_FAULT_BIT_LIMIT) faults.trip_limit = false;
       return Result(m, GP_OK);
     case GP_LEASE:
-      lease_until_s_ = now_s_ + m.body.LEASE.duration_ms / 1000.0;
+      lease_until_s_ = now_s_ + m.body.LEASE.duration_ms / 1000.0 * options_.lease_time_scale;
       return Result(m, GP_OK);
     case GP_LIGHT:
       if (m.body.LIGHT.level_permille > 1000) return Result(m, GP_BAD_REQUEST);

@@ -22,6 +22,11 @@ struct FirmwareOptions {
   std::uint32_t build = 1;
   std::uint32_t schema_hash = gp_schema_hash();  // change it to simulate other firmware
   std::uint16_t protocol_version = GP_PROTOCOL_VERSION;
+  // The lease guards against a silent host, whose silence is wall-clock time: a firmware whose
+  // clock runs this many times faster than the wall (the emulated USB gantry's time_scale)
+  // counts its leases that much longer. Else a host stalled 0.1 s by a loaded machine loses a
+  // 2 s lease at time_scale 20 (seen in CI: "MOVE refused: the motion lease has expired").
+  double lease_time_scale = 1;
 };
 
 struct FirmwareFaults {

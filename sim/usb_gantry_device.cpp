@@ -119,8 +119,17 @@ bool EmulatedUsbGantry::UnderUmockdev() {
   return preloaded;
 }
 
+namespace {
+FirmwareOptions LeasesOnTheWallClock(FirmwareOptions firmware, double time_scale) {
+  firmware.lease_time_scale = time_scale;
+  return firmware;
+}
+}  // namespace
+
 EmulatedUsbGantry::EmulatedUsbGantry(FirmwareOptions firmware, EmulatedUsbOptions usb)
-    : firmware_options_(firmware), usb_(std::move(usb)), firmware_(firmware) {
+    : firmware_options_(LeasesOnTheWallClock(firmware, usb.time_scale)),
+      usb_(std::move(usb)),
+      firmware_(firmware_options_) {
   testbed_ = umockdev_testbed_new();
   if (!umockdev_in_mock_environment()) {
     g_object_unref(static_cast<UMockdevTestbed*>(testbed_));
