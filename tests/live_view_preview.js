@@ -22,6 +22,9 @@ const waitFor = (page, f, arg, what) =>
       "the frame changes as the camera streams");
     const seconds = (Date.now() - start) / 1000;
     console.log("    3 frames in " + seconds.toFixed(1) + " s");
+    await waitFor(page, () => document.getElementById("focus").width > 1 &&
+      Number(document.getElementById("sharpness").textContent) > 0, null,
+      "the focus aid shows the centre at full resolution and its sharpness");
     await page.$eval("#exposure-us", (e) => { e.value = "5000"; });
     await page.click("#set-exposure");
     await waitFor(page, () => document.getElementById("frame-info").textContent.includes("5.0 ms"),

@@ -1,9 +1,12 @@
 #!/usr/bin/env bash
 # Does the live view slow the capture? (issue 23; docs/live-view.md) The same simulated session
-# (the test plan's, 8 intrinsics boards, capture only up to the processing: its wall time to the
-# end of the capture) run RUNS times without a page and RUNS times with the page open in
-# headless Chromium (polling status every 0.5 s and the frame every 0.7 s), alternating; and
-# `acqctl status`'s latency during the capture, with the page and without.
+# (the test plan's, 8 intrinsics boards; its wall time to the end of the capture) run RUNS times
+# in each of three ways, in turn: without a page ("none"); with the page open in headless
+# Chromium ("page"); and with the page's requests replayed on the page's schedule by a client
+# that is not a browser ("requests", tools/live_view_requests.js), which measures what the
+# requests cost acqd and `acqctl serve` apart from a browser's own work on this machine. For
+# "page" and "requests" the CPU seconds the client used (the browser's processes, or node's)
+# are printed; and `acqctl status`'s latency during the capture.
 # usage: tools/bench_live_view.sh [RUNS]   (default 2; prints a table)
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -36,20 +39,23 @@ PLAN
 capture_s() {  # LOG: the capture's wall time, from acqd's "processing" line
   grep -m1 -oE '^\[ *[0-9.]+ s\] processing' "$1" | grep -oE '[0-9.]+'
 }
-printf "run  page  capture_s  status_ms(median, max)\n"
+printf "run  page      capture_s  client_cpu_s  status_ms(median, max)\n"
 for r in $(seq "$runs"); do
-  for page in no yes; do
+  for page in none page requests; do
     d=$tmp/$r-$page; plan "$d"
     sock=$tmp/$r-$page.sock
     $acqd --session "$d/plan.yaml" --socket "$sock" > "$d/acqd.log" 2>&1 &
     acqd_pid=$!
     latency=""
-    if [ $page = yes ]; then
+    if [ $page != none ]; then
       $acqctl --socket "$sock" serve --port 0 > "$d/serve.log" 2>&1 &
       serve_pid=$!
       sleep 0.5
       url=$(grep -o 'http://[^ ]*' "$d/serve.log")
-      node tools/live_view_watch.js "$PWD/tools/node/node_modules/puppeteer-core" "$url" > "$d/page.log" 2>&1 &
+      # The client's CPU seconds, its children (the browser's processes) included.
+      client=(node tools/live_view_requests.js "$url")
+      [ $page = page ] && client=(node tools/live_view_watch.js "$PWD/tools/node/node_modules/puppeteer-core" "$url")
+      /usr/bin/time -f "%U %S" -o "$d/client_cpu" "${client[@]}" > "$d/page.log" 2>&1 &
       page_pid=$!
     fi
     # acqctl status's latency (process start included) during the capture, page or none.
@@ -59,9 +65,17 @@ for r in $(seq "$runs"); do
       latency="$latency $(( (e - s) / 1000000 ))"; sleep 0.2
     done
     wait $acqd_pid || true
-    if [ $page = yes ]; then kill $serve_pid 2>/dev/null || true; wait $page_pid 2>/dev/null || true; fi
+    client_cpu=""
+    if [ $page != none ]; then
+      # The client ends when it sees the session end (or acqd gone); the server goes after it.
+      for _ in $(seq 60); do kill -0 $page_pid 2>/dev/null || break; sleep 0.5; done
+      kill $page_pid 2>/dev/null || true
+      wait $page_pid 2>/dev/null || true
+      kill $serve_pid 2>/dev/null || true
+      client_cpu=$(awk '{print $1 + $2}' "$d/client_cpu" 2>/dev/null || true)
+    fi
     stats=""
     [ -n "$latency" ] && stats=$(tr ' ' '\n' <<<"$latency" | sed '/^$/d' | sort -n | awk '{a[NR]=$1} END {print a[int((NR+1)/2)] ", " a[NR]}')
-    printf "%-4s %-5s %-10s %s\n" "$r" "$page" "$(capture_s "$d/acqd.log")" "$stats"
+    printf "%-4s %-9s %-10s %-13s %s\n" "$r" "$page" "$(capture_s "$d/acqd.log")" "${client_cpu:--}" "$stats"
   done
 done

@@ -103,6 +103,10 @@ std::string FramePreview::Json() const {
   j["clipped"] = clipped;
   j["histogram"] = histogram;
   j["grey_base64"] = Base64Encode(grey);
+  j["focus_width"] = focus_width;
+  j["focus_height"] = focus_height;
+  j["focus_base64"] = Base64Encode(focus_grey);
+  j["sharpness"] = sharpness;
   return j.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
 }
 

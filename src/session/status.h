@@ -64,6 +64,11 @@ struct FramePreview {
   std::vector<std::uint8_t> grey;    // width x height, value / max with a 1/2.2 display gamma
   std::array<long, 32> histogram{};  // value / max over the sampled blocks, 32 equal bins
   long sampled = 0, clipped = 0;     // 2 x 2 blocks sampled, and those with a pixel at the max
+  // The focus aid: the frame's centre at full 2 x 2 block resolution (nothing skipped, so that
+  // the operator sees what the 192-pixel preview hides), and a sharpness figure of it.
+  int focus_width = 0, focus_height = 0;
+  std::vector<std::uint8_t> focus_grey;  // as grey, same gamma
+  double sharpness = 0;  // frame_preview.h's definition; higher is sharper, exposure cancels
   std::string Json() const;          // one line; the pixels in base64
 };
 
