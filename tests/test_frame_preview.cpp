@@ -20,12 +20,15 @@ Frame FrameOf(int width, int height, PixelFormat format,
   f.pixel_format = format;
   f.pixels.resize(std::size_t(width) * height);
   for (int y = 0; y < height; ++y)
-    for (int x = 0; x < width; ++x) f.pixels[std::size_t(y) * width + x] = std::uint16_t(value(x, y));
+    for (int x = 0; x < width; ++x)
+      f.pixels[std::size_t(y) * width + x] = std::uint16_t(value(x, y));
   return f;
 }
 
 // A printed pattern: 8-pixel squares of 600 and 2400 on a 12-bit sensor.
-int Checker(int x, int y) { return ((x / 8 + y / 8) % 2) ? 2400 : 600; }
+int Checker(int x, int y) {
+  return ((x / 8 + y / 8) % 2) ? 2400 : 600;
+}
 
 // The same pattern seen through a defocused lens: a 9 x 9 box blur.
 int BlurredChecker(int x, int y) {
@@ -57,8 +60,8 @@ TEST_CASE("frame preview: the focus crop is the centre's blocks, every one", "[s
 TEST_CASE("frame preview: sharpness falls with defocus and ignores the exposure", "[session]") {
   const Frame sharp = FrameOf(512, 512, PixelFormat::kMono12, Checker);
   const Frame blurred = FrameOf(512, 512, PixelFormat::kMono12, BlurredChecker);
-  const Frame brighter = FrameOf(512, 512, PixelFormat::kMono12,
-                                 [](int x, int y) { return Checker(x, y) * 3 / 2; });
+  const Frame brighter =
+      FrameOf(512, 512, PixelFormat::kMono12, [](int x, int y) { return Checker(x, y) * 3 / 2; });
   const double s_sharp = PreviewOf(sharp).sharpness, s_blurred = PreviewOf(blurred).sharpness;
   INFO("sharp " << s_sharp << ", blurred " << s_blurred);
   // A box blur of the square's width spreads every edge over the whole square: the block
@@ -88,7 +91,8 @@ TEST_CASE("frame preview: a frame smaller than the crop is shown whole; an empty
   CHECK(small.focus_width == 50);
   CHECK(small.focus_height == 30);
   CHECK(std::isfinite(small.sharpness));
-  const FramePreview dark = PreviewOf(FrameOf(64, 64, PixelFormat::kMono8, [](int, int) { return 0; }));
+  const FramePreview dark =
+      PreviewOf(FrameOf(64, 64, PixelFormat::kMono8, [](int, int) { return 0; }));
   CHECK(dark.sharpness == 0);
   const FramePreview none = PreviewOf(Frame{});
   CHECK(none.focus_grey.empty());

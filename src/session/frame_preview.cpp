@@ -47,7 +47,8 @@ void FocusOnCentre(const Frame& frame, FramePreview& p) {
   p.focus_width = std::min(kFocusSide, frame.width / 2);
   p.focus_height = std::min(kFocusSide, frame.height / 2);
   // Even origins: a Bayer quad is never split.
-  const int x0 = (frame.width / 2 - p.focus_width) & ~1, y0 = (frame.height / 2 - p.focus_height) & ~1;
+  const int x0 = (frame.width / 2 - p.focus_width) & ~1,
+            y0 = (frame.height / 2 - p.focus_height) & ~1;
   std::vector<double> v(std::size_t(p.focus_width) * p.focus_height);
   for (int y = 0; y < p.focus_height; ++y)
     for (int x = 0; x < p.focus_width; ++x)

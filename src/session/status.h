@@ -68,8 +68,8 @@ struct FramePreview {
   // the operator sees what the 192-pixel preview hides), and a sharpness figure of it.
   int focus_width = 0, focus_height = 0;
   std::vector<std::uint8_t> focus_grey;  // as grey, same gamma
-  double sharpness = 0;  // frame_preview.h's definition; higher is sharper, exposure cancels
-  std::string Json() const;          // one line; the pixels in base64
+  double sharpness = 0;      // frame_preview.h's definition; higher is sharper, exposure cancels
+  std::string Json() const;  // one line; the pixels in base64
 };
 
 // Where the sequencer publishes its status and takes operator commands.
