@@ -607,6 +607,77 @@ PixelSolution SolvePooled(const sim::SyntheticSvbrdf& sample_scene,
 
 }  // namespace
 
+TEST_CASE("the leave-one-view-out residual is each view predicted by the solve without it",
+          "[pixel][lanes]") {
+  // A 4-degree card of 9 x 7 pixels, k = 8 (the normal search's), one observation in 20
+  // dropped; every pixel re-solved 20 times by brute force, each time without one view.
+  const Fixture& d = Data();
+  const int k = 8;
+  const double eta = kDefaultEta;
+  const double size = NearFieldGeometry::SampleSizeForFov(DegToRad(4), 1000);
+  const sim::SyntheticSvbrdf scene = sim::MakeCardLayout(9, 7, size, 4, 3);
+  PixelObservations obs =
+      sim::SyntheticObservations(scene, d.continuous, d.views, {}, 0, int(scene.label.size()));
+  std::mt19937 rng(11);
+  std::bernoulli_distribution drop(0.05);
+  for (std::size_t i = 0; i < obs.light.size(); ++i)
+    if (drop(rng)) obs.rgb[3 * i] = std::numeric_limits<float>::quiet_NaN();
+  std::vector<double> brute(obs.pixels);
+  for (int p = 0; p < obs.pixels; ++p) {
+    std::vector<Eigen::VectorXd> q;
+    std::vector<Eigen::Vector3d> y;
+    for (int v = 0; v < obs.views; ++v) {
+      const std::size_t i = obs.At(p, v);
+      const float* rgb = &obs.rgb[3 * i];
+      std::vector<float> row(k);
+      BasisSample sample;
+      if (!std::isfinite(rgb[0]) ||
+          !SampleBasis(d.basis.View(), obs.light[i].cast<double>(), obs.camera[i].cast<double>(), k,
+                       RowLookup::kNearest, row.data(), &sample))
+        continue;
+      q.push_back(Eigen::Map<Eigen::VectorXf>(row.data(), k).cast<double>());
+      Eigen::Vector3d yv;
+      for (int ch = 0; ch < 3; ++ch)
+        yv[ch] = MapBrdf(rgb[ch], sample.cos_weight, sample.ref) - sample.mean;
+      y.push_back(yv);
+    }
+    double sum = 0;
+    for (std::size_t out = 0; out < q.size(); ++out) {
+      Eigen::MatrixXd a = eta * Eigen::MatrixXd::Identity(k, k);
+      Eigen::MatrixXd b = Eigen::MatrixXd::Zero(k, 3);
+      for (std::size_t v = 0; v < q.size(); ++v) {
+        if (v == out) continue;
+        a += q[v] * q[v].transpose();
+        b += q[v] * y[v].transpose();
+      }
+      const Eigen::MatrixXd c = a.ldlt().solve(b);
+      sum += (c.transpose() * q[out] - y[out]).squaredNorm();
+    }
+    brute[std::size_t(p)] = std::sqrt(sum / (3.0 * double(q.size())));
+  }
+  for (PixelKernel kernel : {PixelKernel::kOnePixel, PixelKernel::kLanesDouble}) {
+    PixelSolveOptions o = PerPixel();
+    o.kernel = kernel;
+    o.components = k;
+    o.eta = eta;
+    o.residual = ResidualKind::kLeaveOneViewOut;
+    PixelSolution s;
+    s.Resize(obs.pixels, k);
+    SolvePixels(d.basis.View(), obs, o, &s);
+    o.residual = ResidualKind::kFit;
+    PixelSolution fit;
+    fit.Resize(obs.pixels, k);
+    SolvePixels(d.basis.View(), obs, o, &fit);
+    for (int p = 0; p < obs.pixels; ++p) {
+      INFO("kernel " << int(kernel) << ", pixel " << p);
+      // Exact algebra both ways; the residual is stored as float32.
+      CHECK(s.residual[std::size_t(p)] == Approx(brute[std::size_t(p)]).epsilon(1e-5));
+      // Predicting an unseen view is never easier than fitting it.
+      CHECK(s.residual[std::size_t(p)] > fit.residual[std::size_t(p)]);
+    }
+  }
+}
+
 TEST_CASE("pooled: at 4 degrees better than alone, at 0 degrees no worse", "[pixel][pooled]") {
   const Fixture& d = Data();
   const HeldOutSet truth(d.basis.View(), d.tables);

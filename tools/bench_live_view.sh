@@ -4,10 +4,12 @@
 # in each of three ways, in turn: without a page ("none"); with the page open in headless
 # Chromium ("page"); and with the page's requests replayed on the page's schedule by a client
 # that is not a browser ("requests", tools/live_view_requests.js), which measures what the
-# requests cost acqd and `acqctl serve` apart from a browser's own work on this machine. For
-# "page" and "requests" the CPU seconds the client used (the browser's processes, or node's)
-# are printed; and `acqctl status`'s latency during the capture.
-# usage: tools/bench_live_view.sh [RUNS]   (default 2; prints a table)
+# requests cost acqd and `acqctl serve` apart from a browser's own work on this machine; and with
+# the same browser open on an empty page ("browser"), what a browser costs by itself. For each
+# client the CPU seconds it used (the browser's processes, or node's) are printed; and
+# `acqctl status`'s latency during the capture.
+# usage: tools/bench_live_view.sh [RUNS]   (default 2; prints a table; BENCH_LIVE_VIEW_WAYS="none
+# page" runs only those)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 runs=${1:-2}
@@ -41,7 +43,7 @@ capture_s() {  # LOG: the capture's wall time, from acqd's "processing" line
 }
 printf "run  page      capture_s  client_cpu_s  status_ms(median, max)\n"
 for r in $(seq "$runs"); do
-  for page in none page requests; do
+  for page in ${BENCH_LIVE_VIEW_WAYS:-none page requests browser}; do
     d=$tmp/$r-$page; plan "$d"
     sock=$tmp/$r-$page.sock
     $acqd --session "$d/plan.yaml" --socket "$sock" > "$d/acqd.log" 2>&1 &
@@ -54,7 +56,9 @@ for r in $(seq "$runs"); do
       url=$(grep -o 'http://[^ ]*' "$d/serve.log")
       # The client's CPU seconds, its children (the browser's processes) included.
       client=(node tools/live_view_requests.js "$url")
-      [ $page = page ] && client=(node tools/live_view_watch.js "$PWD/tools/node/node_modules/puppeteer-core" "$url")
+      puppeteer=$PWD/tools/node/node_modules/puppeteer-core
+      [ $page = page ] && client=(node tools/live_view_watch.js "$puppeteer" "$url")
+      [ $page = browser ] && client=(node tools/live_view_watch.js "$puppeteer" "$url" --blank)
       /usr/bin/time -f "%U %S" -o "$d/client_cpu" "${client[@]}" > "$d/page.log" 2>&1 &
       page_pid=$!
     fi

@@ -1,5 +1,6 @@
 #include "brdf/normal_search.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -36,12 +37,15 @@ void ScoreCandidates(const BasisView& basis, const PixelObservations& obs, int f
     for (std::size_t c = 0; c < lists[p].size(); ++c, ++at) {
       owner[at] = {p, int(c)};
       const Eigen::Vector2f& s = lists[p][c].slope;
-      ToFacetFrame(NormalOfSlope(s.x(), s.y()), o.min_cos, obs, first + p, &batch, at);
+      ToFacetFrame(NormalOfSlope(s.x(), s.y()), std::max(o.min_cos, o.score_min_cos), obs,
+                   first + p, &batch, at);
     }
   PixelSolveOptions search = solve;
   search.components = o.components;
   search.eta = o.eta;
   search.row_tile = 1;
+  search.residual = o.criterion == NormalCriterion::kHeldOut ? ResidualKind::kLeaveOneViewOut
+                                                             : ResidualKind::kFit;
   PixelSolution solution;
   solution.Resize(total, o.components);
   SolvePixels(basis, batch, search, &solution);

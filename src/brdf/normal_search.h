@@ -25,10 +25,18 @@ enum class NormalStatus : std::uint8_t {
                    // the data cannot tell): the sample's normal kept, flagged
 };
 
+// What a candidate normal is scored by (the residual of its k-component solve).
+enum class NormalCriterion {
+  kFit,      // the misfit at the pixel's own views: lowest at a slightly wrong normal that lets
+             // the coefficients bend to the data (docs/reconstruction.md, "Normals")
+  kHeldOut,  // each view predicted by the solve without it (ResidualKind::kLeaveOneViewOut)
+};
+
 struct NormalSearchOptions {
   bool enabled = false;
   double max_tilt_deg = 25;  // the cone searched around the sample's normal
   int components = 8;        // k of the search's solves (fewer than the views: identifiable)
+  NormalCriterion criterion = NormalCriterion::kFit;
   double eta = kDefaultEta;
   double prior = 0.05;  // weight of tan^2(tilt) against the RMS log-space residual
   int levels = 6;       // refinements after the coarse grid (the last step: cone / 128)
@@ -36,6 +44,11 @@ struct NormalSearchOptions {
   // behind it; anything more drops the grazing views the flat solve uses (the seed paper's set
   // has lights at 85 degrees), which alone raised a flat brass card's error from 0.285 to 0.335.
   double min_cos = 0;
+  // Views and lights at or below this cosine to a candidate facet are left out of its score
+  // (not out of the solve that follows): at grazing incidence a degree of tilt rescales the
+  // value by n.l / l.z by 20% (85 degrees), which lets a wrong normal absorb the basis's misfit
+  // there; the normal shows in where the lobe falls, which the other views see.
+  double score_min_cos = 0;
   int chunk_pixels = 2048;  // pixels per batch of candidates (memory: chunk x 25 x views)
   void Check(const BasisView& basis) const;  // throws UserError
 };

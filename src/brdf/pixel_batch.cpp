@@ -154,6 +154,19 @@ void PixelBatch<T>::SolveFactor(V* x, std::size_t stride) const {
   }
 }
 
+template <class T>
+typename PixelBatch<T>::V PixelBatch<T>::HatValue(const V* q) {
+  z_.resize(k_);
+  V h{};
+  for (int i = 0; i < k_; ++i) {  // L z = q, as SolveFactor's first half
+    V dot;
+    Dots<1>(&factor_[Packed(i, 0)], z_.data(), 0, i, &dot);
+    z_[i] = (q[i] - dot) * inv_diag_[i];
+    h += z_[i] * z_[i];
+  }
+  return h;
+}
+
 // ConditionEstimator::Estimate (pixel_solver.cpp) in lanes: power iteration on Q^T Q and inverse
 // iteration on its Cholesky factor, each lane stopping when its own Rayleigh quotient settles.
 // Lanes in `skip` (no factor, or not loaded) are settled from the start.
@@ -260,11 +273,18 @@ void PixelBatch<T>::Solve(const PixelSolveOptions& options, PixelSolution* solut
         for (int ch = 0; ch < 3; ++ch) fit[a][ch] += q * coef[ch];
       }
     }
-    for (int a = 0; a < kBlock; ++a)
+    for (int a = 0; a < kBlock; ++a) {
+      V scale = Splat<T>(T(1));  // ResidualKind::kFit
+      if (options.residual == ResidualKind::kLeaveOneViewOut && v0 + a < n) {
+        // A zero row (unusable) has h = 0 and a zero error: it still adds nothing.
+        const V h = HatValue(&rows_[std::size_t(v0 + a) * kp]);
+        scale = T(1) / Max<T>(T(1) - h, Splat<T>(T(1e-12)));
+      }
       for (int ch = 0; ch < 3; ++ch) {
-        const V e = fit[a][ch] - y_[std::size_t(v0 + a) * 3 + ch];
+        const V e = (fit[a][ch] - y_[std::size_t(v0 + a) * 3 + ch]) * scale;
         misfit += e * e;
       }
+    }
   }
   for (int l = 0; l < count_; ++l) {
     if (!solved[l]) continue;

@@ -44,6 +44,8 @@ class PixelBatch {
   template <int kColumns>
   void SolveFactor(V* x, std::size_t stride) const;
   void EstimateCondition(M skip, V* condition);
+  // The ridge's hat value of each lane's row q (k values, stride 1): |L^-1 q|^2, L = factor_.
+  V HatValue(const V* q);
 
   static constexpr int kBlock = 4;  // register blocks of the products: 4 x 4 lanes vectors
   int k_ = 0, stride_ = 0, views_ = 0, padded_views_ = 0, count_ = 0;
@@ -56,6 +58,7 @@ class PixelBatch {
   std::vector<V> inv_diag_;                // k: 1 / the factor's diagonal
   std::vector<V> largest_, smallest_, w_;  // k: warm starts of the condition estimate
   std::vector<V> rhs_;                     // 3 x k
+  std::vector<V> z_;                       // k: scratch of HatValue
   std::vector<float> row_;                 // one sampled row
 };
 

@@ -171,7 +171,15 @@ struct OnePixel {
     rhs.noalias() = qn.transpose() * y.topRows(n);
     c = factor.llt.solve(rhs);
     fit.noalias() = qn * c;
-    const double misfit = (fit - y.topRows(n)).squaredNorm();
+    double misfit = 0;
+    for (int v = 0; v < n; ++v) {
+      double scale = 1;  // ResidualKind::kFit
+      if (options.residual == ResidualKind::kLeaveOneViewOut) {
+        const double h = factor.llt.matrixL().solve(qn.row(v).transpose()).squaredNorm();
+        scale = 1 / std::max(1 - h, 1e-12);
+      }
+      misfit += scale * scale * (fit.row(v) - y.row(v)).squaredNorm();
+    }
     const bool finite = c.allFinite() && std::isfinite(misfit);
     for (int ch = 0; ch < 3; ++ch)
       for (int j = 0; j < k; ++j) coeff[ch * k + j] = finite ? float(c(j, ch)) : 0.0f;

@@ -74,6 +74,16 @@ enum class PixelKernel {
   kOnePixel,     // one pixel at a time with Eigen's dynamic-size routines (the reference)
 };
 
+// What a solve reports as its residual (PixelSolution::residual).
+enum class ResidualKind {
+  kFit,  // the RMS misfit at the observations the coefficients were fitted to
+  // The RMS of each observation's exact leave-one-view-out error, r_v / (1 - h_v) with h_v the
+  // ridge's hat value (the three channels share the rows, so one h_v a view): how well the
+  // pixel's model predicts a view it did not see. For choosing between models of one pixel
+  // (normal_search.h), where the fit's misfit rewards whatever lets the coefficients bend.
+  kLeaveOneViewOut,
+};
+
 struct PixelSolveOptions {
   int components = kDefaultComponents;  // k
   double eta = kDefaultEta;
@@ -91,6 +101,7 @@ struct PixelSolveOptions {
   // s in 8 x 8 tiles; docs/reconstruction.md).
   int row_tile = 1;
   PixelKernel kernel = PixelKernel::kLanesDouble;
+  ResidualKind residual = ResidualKind::kFit;
   void Check(const BasisView& basis) const;  // throws UserError
   int MinObservations() const {
     return min_observations > 0 ? min_observations : (components + 1) / 2;
@@ -104,7 +115,7 @@ struct PixelSolution {
   std::vector<std::uint8_t> valid;          // 1 when trustworthy
   std::vector<std::uint16_t> observations;  // views used
   std::vector<float> condition;  // of the pixel's sampled rows, n x k (inf when dependent)
-  std::vector<float> residual;   // RMS log-space misfit at the observations
+  std::vector<float> residual;   // RMS log-space misfit at the observations (options.residual)
   // The pooled solve's (pooled_solver.h): the pixel's group, -1 when it was solved alone, and
   // the RMS log-space distance of its BRDF from its (or the nearest) group's centre.
   std::vector<std::int16_t> group;

@@ -43,6 +43,14 @@ ReconstructionMethod MethodFrom(const Args& args) {
   throw UserError("--method", "must be 'independent' or 'pooled', got '" + m + "'");
 }
 
+NormalCriterion NormalCriterionFrom(const Args& args, NormalCriterion fallback) {
+  const std::string c =
+      args.Get("normals-criterion", fallback == NormalCriterion::kFit ? "fit" : "held-out");
+  if (c == "fit") return NormalCriterion::kFit;
+  if (c == "held-out") return NormalCriterion::kHeldOut;
+  throw UserError("--normals-criterion", "must be 'fit' or 'held-out', got '" + c + "'");
+}
+
 // The sample: a built-in one (--sample) or one described in a file (--sample-labels,
 // --sample-weights), whose size is then the file's.
 sim::MixedSample SampleFrom(const Args& args, const std::vector<std::string>& names, int w, int h,
@@ -162,7 +170,9 @@ int ReconstructSynthetic(const Argv& argv) {
                                   "height-map",
                                   "normals-max-tilt-deg",
                                   "normals-prior",
-                                  "normals-k"};
+                                  "normals-k",
+                                  "normals-criterion",
+                                  "normals-score-min-cos"};
   valued.insert(kGeometryOptions.begin(), kGeometryOptions.end());
   const Args args("acq reconstruct synthetic", argv, valued,
                   {"ignore-near-field", "truth-tables", "score", "quiet", "normals"});
@@ -228,6 +238,9 @@ int ReconstructSynthetic(const Argv& argv) {
   r.normals.max_tilt_deg = args.GetDouble("normals-max-tilt-deg", r.normals.max_tilt_deg, 1, 59);
   r.normals.prior = args.GetDouble("normals-prior", r.normals.prior, 0, 1e6);
   r.normals.components = args.GetInt("normals-k", r.normals.components, 1, 64);
+  r.normals.criterion = NormalCriterionFrom(args, r.normals.criterion);
+  r.normals.score_min_cos =
+      args.GetDouble("normals-score-min-cos", r.normals.score_min_cos, 0, 0.9);
   r.progress = !args.Has("quiet");
   SvbrdfMapInfo info;
   info.basis = basis_path;

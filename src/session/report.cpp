@@ -138,6 +138,17 @@ std::string SessionReport::Json() const {
       j["colour"]["chart_patches"] = patches;
     }
     if (scored) {
+      std::vector<double> floor, map_vs_truth;
+      for (const ValidationTruth& v : validation_truth) {
+        floor.push_back(v.capture_delta_e2000);
+        map_vs_truth.push_back(v.map_delta_e2000);
+      }
+      // What the capture's own noise costs (the truth against the capture), and the map
+      // against the truth without it: delta_e2000_validation_median read beside these.
+      j["colour"]["delta_e2000_validation_truth_vs_capture_median"] =
+          floor.empty() ? Json(nullptr) : Json(Median(floor));
+      j["colour"]["delta_e2000_validation_map_vs_truth_median"] =
+          map_vs_truth.empty() ? Json(nullptr) : Json(Median(map_vs_truth));
       j["colour"]["delta_e2000_albedo_median"] = score.albedo_delta_e2000_median;
       j["colour"]["channel_median_log_rmse"] = score.channel_median_log_rmse;
     }
@@ -154,6 +165,16 @@ std::string SessionReport::Json() const {
                          {"board_eye_error_max_deg", board_eye_error_max_deg},
                          {"material_median_log_rmse", score.material_median_log_rmse},
                          {"material_homogeneous_log_rmse", homogeneous_log_rmse}};
+  if (scored) {
+    j["ground_truth"]["validation"] = Json::array();
+    for (const ValidationTruth& v : validation_truth)
+      j["ground_truth"]["validation"].push_back(
+          {{"direction", v.name},
+           {"truth_vs_capture_relative_rms", v.capture_relative_rms},
+           {"truth_vs_capture_median_delta_e2000", v.capture_delta_e2000},
+           {"map_vs_truth_relative_rms", v.map_relative_rms},
+           {"map_vs_truth_median_delta_e2000", v.map_delta_e2000}});
+  }
   return j.dump(2, ' ', false, Json::error_handler_t::replace) + "\n";
 }
 
@@ -292,6 +313,14 @@ std::string TruthText(const SessionReport& s) {
                 s.alignment_median_px, s.alignment_max_px, s.board_eye_error_median_deg,
                 s.board_eye_error_max_deg);
   t << line;
+  for (const SessionReport::ValidationTruth& v : s.validation_truth) {
+    std::snprintf(line, sizeof line,
+                  "  validation %s: the truth against the capture: relative RMS %.3f, median "
+                  "CIEDE2000 %.2f (the capture's noise); the map against the truth: %.3f, %.2f\n",
+                  v.name.c_str(), v.capture_relative_rms, v.capture_delta_e2000, v.map_relative_rms,
+                  v.map_delta_e2000);
+    t << line;
+  }
   const std::vector<double>& per_material = s.score.material_median_log_rmse;
   for (std::size_t m = 0; m < per_material.size(); ++m) {
     std::snprintf(line, sizeof line,

@@ -54,6 +54,15 @@ struct SessionReport {
   // The camera centre each board pose gives, against the true one, as seen from the sample
   // (degrees): why the view directions come from the camera's arm (process.h).
   double board_eye_error_median_deg = 0, board_eye_error_max_deg = 0;
+  // Each validation view against the truth (truth_score.h): the true materials rendered at every
+  // pixel's own directions against the capture (the capture's noise: a floor no model can go
+  // under), and the map's render against that truth render (the map's error without it).
+  struct ValidationTruth {
+    std::string name;
+    double capture_delta_e2000 = 0, capture_relative_rms = 0;  // truth vs capture
+    double map_delta_e2000 = 0, map_relative_rms = 0;          // map vs truth
+  };
+  std::vector<ValidationTruth> validation_truth;
 
   double OverheadS() const;
   std::string Json() const;

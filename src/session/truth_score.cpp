@@ -4,6 +4,7 @@
 #include <cmath>
 #include <filesystem>
 
+#include "acq/validation.h"
 #include "brdf/basis_file.h"
 #include "brdf/directions.h"
 #include "brdf/evaluation.h"
@@ -18,23 +19,35 @@
 namespace acq {
 namespace {
 
-// The map against the card's true materials (as the camera records them: linear Rec. 709, or
-// luminance for a mono camera), and the
-// homogeneous result for the same materials at the same directions.
-void ScoreMapAgainstTruth(const Plan& plan, const std::string& dir,
-                          const sim::GroundTruthFiles& truth_files, SessionReport* report) {
-  const MappedBasis mapped = MappedBasis::Open(plan.reconstruction.basis_file);
+// The card's true materials (as the camera records them: linear Rec. 709, or luminance for a
+// mono camera), and the true material's label at each map pixel.
+struct TruthAtPixels {
+  std::vector<MerlBrdf> materials;
+  std::vector<int> labels;  // per map pixel, -1 off the card
+};
+TruthAtPixels TruthOfMap(const Plan& plan, const sim::GroundTruthFiles& truth_files,
+                         const ProcessReport& process) {
+  TruthAtPixels t;
   const bool colour = CfaOf(plan.camera.settings.pixel_format) != Cfa::kNone;
-  const std::vector<MerlBrdf> truth = sim::TruthTables(plan.sim.materials, colour, plan.sim.sample,
-                                                       plan.sample.width_mm, plan.sim.seed);
+  t.materials = sim::TruthTables(plan.sim.materials, colour, plan.sim.sample, plan.sample.width_mm,
+                                 plan.sim.seed);
   // Where each map pixel lies on the sample: computed here, for scoring only (2 s of mrcal's
   // unprojection at 2048 x 2048, not the processing's to spend).
-  const ProcessReport& process = report->process;
-  std::vector<int> labels;
   for (const Eigen::Vector3d& p :
        calib::SamplePoints(ReferenceViewOf(plan, process.calibration.camera)))
-    labels.push_back(truth_files.card.LabelAt(p.head<2>()));
-  report->score = ScoreMap(ReadSvbrdfMap(dir + "/svbrdf.exr"), mapped.View(), labels, truth);
+    t.labels.push_back(truth_files.card.LabelAt(p.head<2>()));
+  return t;
+}
+
+// The map against the card's true materials, and the homogeneous result for the same materials
+// at the same directions.
+void ScoreMapAgainstTruth(const Plan& plan, const std::string& dir, const SvbrdfMap& map,
+                          const TruthAtPixels& truth_at, const sim::GroundTruthFiles& truth_files,
+                          SessionReport* report) {
+  const MappedBasis mapped = MappedBasis::Open(plan.reconstruction.basis_file);
+  const std::vector<MerlBrdf>& truth = truth_at.materials;
+  const std::vector<int>& labels = truth_at.labels;
+  report->score = ScoreMap(map, mapped.View(), labels, truth);
   FloatPlanes error;  // per pixel, for a look at where the map is wrong
   error.width = report->process.reference_width;
   error.height = report->process.reference_height;
@@ -60,6 +73,35 @@ void ScoreMapAgainstTruth(const Plan& plan, const std::string& dir,
   report->materials = truth_files.material_names;
   report->homogeneous_median_log_rmse = Median(homogeneous);
   report->scored = true;
+}
+
+// Each validation view's capture (renders/validation_NNN.exr, as the processing kept it)
+// against the true materials rendered at every pixel's own directions, and the map's render
+// against that truth: how much of the validation figure is the capture's own noise, which no
+// model can remove, and how far the map is from the truth without it.
+void ScoreValidationAgainstTruth(const Plan& plan, const std::string& dir, const SvbrdfMap& map,
+                                 const TruthAtPixels& truth_at, SessionReport* report) {
+  const MappedBasis mapped = MappedBasis::Open(plan.reconstruction.basis_file);
+  const PixelBrdf truth = [&truth_at, w = map.info.width](int x, int y, const Eigen::Vector3d& in,
+                                                          const Eigen::Vector3d& out) {
+    const int label = truth_at.labels[std::size_t(y) * w + x];
+    return label < 0 ? std::array<double, 3>{} : truth_at.materials[label].Lookup(in, out);
+  };
+  report->validation_truth.clear();
+  for (const ValidationSummary& v : report->process.validation) {
+    const std::filesystem::path render(v.render);
+    const std::string kept =
+        dir + "/" + render.parent_path().string() + "/" + render.stem().string() + ".exr";
+    if (!std::filesystem::is_regular_file(kept)) continue;  // a session from before they were kept
+    const ValidationData captured = ReadValidationData(kept);
+    const ValidationResult floor = Compare(captured, truth);
+    ValidationData true_view = captured;  // the truth's render in the capture's place
+    true_view.captured = floor.predicted.rgb;
+    const ValidationResult map_error =
+        Compare(true_view, MapPixelBrdf(map, mapped.View(), plan.reconstruction.lookup));
+    report->validation_truth.push_back({v.name, floor.median_delta_e2000, floor.relative_rms,
+                                        map_error.median_delta_e2000, map_error.relative_rms});
+  }
 }
 
 // The calibrated geometry against the simulated instrument's: points on a grid over the sample
@@ -103,7 +145,10 @@ bool HasGroundTruth(const std::string& session_dir) {
 void ScoreAgainstGroundTruth(const Plan& plan, const std::string& session_dir,
                              SessionReport* report) {
   const sim::GroundTruthFiles truth = sim::ReadGroundTruth(session_dir + "/ground_truth");
-  ScoreMapAgainstTruth(plan, session_dir, truth, report);
+  const SvbrdfMap map = ReadSvbrdfMap(session_dir + "/svbrdf.exr");
+  const TruthAtPixels truth_at = TruthOfMap(plan, truth, report->process);
+  ScoreMapAgainstTruth(plan, session_dir, map, truth_at, truth, report);
+  ScoreValidationAgainstTruth(plan, session_dir, map, truth_at, report);
   ScoreCalibration(plan, truth.camera, report);
 }
 
