@@ -77,13 +77,27 @@ ReconstructionReport Reconstruct(const BasisView& basis, ObservationSource& sour
   ReconstructionReport report;
   report.method = options.method;
   const bool pooled = options.method == ReconstructionMethod::kPooled;
-  if (pooled) {
+  // Normals judged by the material groups' centres need a model fitted before any normal is
+  // known (the observations taken as flat), whatever the method.
+  const bool centre_normals =
+      options.normals.enabled && options.normals.criterion == NormalCriterion::kCentre;
+  PooledModel normals_model;
+  if (pooled || centre_normals) {
+    const PixelObservations as_read = ReadSample(source, options);
+    PixelObservations sample = as_read;
+    if (centre_normals) {
+      // Fitted once on the sample taken as flat, whose relief blurs each centre's lobe; then
+      // again on the sample turned into the normals that model finds, a sharper reference.
+      normals_model = FitPooledModel(basis, sample, options.solve, options.pooled);
+      EstimateNormals(basis, &sample, options.solve, options.normals, &normals_model);
+      normals_model = FitPooledModel(basis, sample, options.solve, options.pooled);
+      sample = as_read;
+    }
+    EstimateNormals(basis, &sample, options.solve, options.normals, &normals_model);
     // The model is fitted on the sample's observations in their facets' frames, as it is used.
-    PixelObservations sample = ReadSample(source, options);
-    EstimateNormals(basis, &sample, options.solve, options.normals);
-    report.model = FitPooledModel(basis, sample, options.solve, options.pooled);
+    if (pooled) report.model = FitPooledModel(basis, sample, options.solve, options.pooled);
     report.model_seconds = std::chrono::duration<double>(Clock::now() - start).count();
-    info.model = report.model.Summary();
+    if (pooled) info.model = report.model.Summary();
   }
   const int k = pooled ? report.model.components : options.solve.components;
   info.method = ReconstructionMethodName(options.method);
@@ -102,7 +116,8 @@ ReconstructionReport Reconstruct(const BasisView& basis, ObservationSource& sour
     const int rows = std::min(options.band_rows, h - y0);
     PixelObservations obs = source.Rows(y0, rows);
     const auto normal_start = Clock::now();
-    const PixelNormals normals = EstimateNormals(basis, &obs, options.solve, options.normals);
+    const PixelNormals normals =
+        EstimateNormals(basis, &obs, options.solve, options.normals, &normals_model);
     report.normal_seconds += std::chrono::duration<double>(Clock::now() - normal_start).count();
     PixelSolution solution;
     solution.Resize(obs.pixels, k);

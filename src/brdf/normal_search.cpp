@@ -4,6 +4,8 @@
 #include <cmath>
 #include <limits>
 
+#include "brdf/log_mapping.h"
+#include "brdf/pixel_rows.h"
 #include "core/angles.h"
 #include "core/error.h"
 #include "core/facet_frame.h"
@@ -19,6 +21,9 @@ struct Candidate {
   Eigen::Vector2f slope;
   double score = std::numeric_limits<double>::infinity();
   int views = 0;  // the solve's observations
+  // Criterion kCentre: the group whose centre scored it, and that centre's RMS misfit.
+  int group = -1;
+  double misfit = 0;
 };
 
 // Scores candidates[p] (one list per pixel of the chunk [first, first + count)) with one batch
@@ -56,11 +61,144 @@ void ScoreCandidates(const BasisView& basis, const PixelObservations& obs, int f
     cand.views = solution.observations[i];
     // Not valid (too few views, too poorly conditioned, not finite): no score.
     if (!solution.valid[i]) continue;
-    cand.score = solution.residual[i] + o.prior * double(cand.slope.squaredNorm());
+    cand.misfit = solution.residual[i];
+    cand.score = cand.misfit + o.prior * double(cand.slope.squaredNorm());
+  }
+}
+
+// The information criterion of NormalSearchOptions::evidence: does the best candidate's misfit
+// (RMS over 3 x views residuals) improve on the sample's normal's by enough for two parameters?
+bool TiltEarnsItsKeep(double flat_misfit, const Candidate& best, double evidence) {
+  if (best.slope.isZero()) return true;  // nothing to earn
+  if (!std::isfinite(flat_misfit)) return true;  // the flat normal was not usable at all
+  if (!(best.misfit > 0)) return true;
+  const double n = 3.0 * best.views;
+  return n * 2 * std::log(flat_misfit / best.misfit) > evidence * 2 * std::log(n);
+}
+
+// Criterion kCentre: each pixel's candidate groups (the kCentreGroups nearest to its flat
+// independent solve in the model's feature space).
+constexpr int kCentreGroups = 3;
+std::vector<std::vector<int>> NearestGroups(const BasisView& basis, const PixelObservations& obs,
+                                            int first, int count, const PooledModel& model,
+                                            const PixelSolveOptions& solve) {
+  PixelObservations chunk;
+  chunk.Resize(count, obs.views);
+  for (int p = 0; p < count; ++p)
+    ToFacetFrame(Eigen::Vector3f::UnitZ(), -1, obs, first + p, &chunk, p);  // a copy
+  PixelSolveOptions flat = solve;
+  flat.components = model.components;
+  flat.row_tile = 1;
+  flat.residual = ResidualKind::kFit;
+  PixelSolution solution;
+  solution.Resize(count, flat.components);
+  SolvePixels(basis, chunk, flat, &solution);
+  std::vector<std::vector<int>> nearest(count);
+  std::vector<double> feature(3 * model.features);
+  std::vector<std::pair<double, int>> by_distance;
+  for (int p = 0; p < count; ++p) {
+    model.Feature(&solution.coefficients[std::size_t(p) * 3 * flat.components], flat.components,
+                  feature.data());
+    by_distance.clear();
+    for (std::size_t g = 0; g < model.groups.size(); ++g) {
+      double d = 0;
+      for (std::size_t i = 0; i < feature.size(); ++i)
+        d += std::pow(feature[i] - model.groups[g].feature[i], 2);
+      by_distance.push_back({d, int(g)});
+    }
+    const int m = std::min<int>(kCentreGroups, int(by_distance.size()));
+    std::partial_sort(by_distance.begin(), by_distance.begin() + m, by_distance.end());
+    for (int i = 0; i < m; ++i) nearest[p].push_back(by_distance[i].second);
+  }
+  return nearest;
+}
+
+// The centre scorer over a chunk's candidate lists (OpenMP across pixels).
+void ScoreAgainstCentres(const BasisView& basis, const PixelObservations& obs, int first,
+                         int count, const std::vector<std::vector<Candidate>>& lists,
+                         const std::vector<std::vector<int>>& groups, const PooledModel& model,
+                         const PixelSolveOptions& solve, const NormalSearchOptions& o,
+                         std::vector<std::vector<Candidate>>* scored);
+
+// One pixel's candidates scored by the best of its groups' centres, coefficients held.
+struct CentreScorer {
+  const BasisView& basis;
+  const PooledModel& model;
+  RowLookup lookup;
+  PixelObservations one;
+  ViewRows rows;
+
+  // The RMS log-space misfit of group g's centre at the pixel's observations in `one`.
+  double Misfit(int g, int* views) {
+    const int K = model.components;
+    const std::vector<float>& c = model.groups[g].centre;
+    double sum = 0;
+    int n = 0;
+    for (int v = 0; v < one.views; ++v) {
+      const float* rgb = &one.rgb[3 * v];
+      if (!(rows.ok[v] && std::isfinite(rgb[0]) && std::isfinite(rgb[1]) && std::isfinite(rgb[2])))
+        continue;
+      const BasisSample& s = rows.samples[v];
+      for (int ch = 0; ch < 3; ++ch) {
+        double predicted = 0;
+        for (int j = 0; j < K; ++j) predicted += rows.rows(v, j) * c[std::size_t(ch) * K + j];
+        sum += std::pow(predicted - (MapBrdf(rgb[ch], s.cos_weight, s.ref) - s.mean), 2);
+      }
+      ++n;
+    }
+    *views = n;
+    return n > 0 ? std::sqrt(sum / (3.0 * n)) : std::numeric_limits<double>::infinity();
+  }
+
+  void Score(const PixelObservations& obs, int pixel, const std::vector<int>& groups,
+             const NormalSearchOptions& o, int min_views, std::vector<Candidate>* candidates) {
+    one.Resize(1, obs.views);
+    for (Candidate& cand : *candidates) {
+      ToFacetFrame(NormalOfSlope(cand.slope.x(), cand.slope.y()),
+                   std::max(o.min_cos, o.score_min_cos), obs, pixel, &one, 0);
+      rows.Sample(basis, one, 0, model.components, lookup);
+      for (int g : groups) {
+        int views = 0;
+        const double misfit = Misfit(g, &views);
+        if (views < min_views) continue;
+        const double score = misfit + o.prior * double(cand.slope.squaredNorm());
+        if (score < cand.score) cand = {cand.slope, score, views, g, misfit};
+      }
+    }
+  }
+};
+
+void ScoreAgainstCentres(const BasisView& basis, const PixelObservations& obs, int first,
+                         int count, const std::vector<std::vector<Candidate>>& lists,
+                         const std::vector<std::vector<int>>& groups, const PooledModel& model,
+                         const PixelSolveOptions& solve, const NormalSearchOptions& o,
+                         std::vector<std::vector<Candidate>>* scored) {
+  *scored = lists;
+#pragma omp parallel
+  {
+    CentreScorer scorer{basis, model, solve.lookup, {}, {}};
+#pragma omp for schedule(dynamic, 16)
+    for (int p = 0; p < count; ++p)
+      scorer.Score(obs, first + p, groups[p], o, solve.MinObservations(), &(*scored)[p]);
   }
 }
 
 }  // namespace
+
+const char* NormalCriterionName(NormalCriterion criterion) {
+  switch (criterion) {
+    case NormalCriterion::kFit: return "fit";
+    case NormalCriterion::kHeldOut: return "held-out";
+    case NormalCriterion::kCentre: return "centre";
+  }
+  return "?";
+}
+
+std::optional<NormalCriterion> ParseNormalCriterion(const std::string& name) {
+  for (NormalCriterion c : {NormalCriterion::kFit, NormalCriterion::kHeldOut, NormalCriterion::kCentre})
+    if (name == NormalCriterionName(c)) return c;
+  return std::nullopt;
+}
 
 void NormalSearchOptions::Check(const BasisView& basis) const {
   if (!enabled) return;
@@ -70,6 +208,7 @@ void NormalSearchOptions::Check(const BasisView& basis) const {
   if (components < 1 || components > basis.components)
     throw UserError("normals k", "must be in [1, " + std::to_string(basis.components) + "]");
   if (!(prior >= 0)) throw UserError("normals prior", "must be >= 0");
+  if (!(evidence >= 0)) throw UserError("normals evidence", "must be >= 0");
   if (levels < 0 || levels > 12) throw UserError("normals levels", "must be in [0, 12]");
   if (chunk_pixels < 1) throw UserError("normals chunk", "must be at least 1");
 }
@@ -97,15 +236,22 @@ void ToFacetFrame(const Eigen::Vector3f& n, double min_cos, const PixelObservati
 }
 
 PixelNormals EstimateNormals(const BasisView& basis, PixelObservations* obs,
-                             const PixelSolveOptions& solve, const NormalSearchOptions& o) {
+                             const PixelSolveOptions& solve, const NormalSearchOptions& o,
+                             const PooledModel* model) {
   o.Check(basis);
   PixelNormals out;
   out.Resize(obs->pixels);
   if (!o.enabled) return out;
+  const bool by_centre = o.criterion == NormalCriterion::kCentre;
+  if (by_centre && (!model || model->groups.empty())) return out;  // no centre to judge by
   const float cone = float(std::tan(DegToRad(o.max_tilt_deg)));
   for (int first = 0; first < obs->pixels; first += o.chunk_pixels) {
     const int count = std::min(o.chunk_pixels, obs->pixels - first);
+    const std::vector<std::vector<int>> groups =
+        by_centre ? NearestGroups(basis, *obs, first, count, *model, solve)
+                  : std::vector<std::vector<int>>();
     std::vector<int> flat_views(count, 0);  // the views the sample's normal's solve used
+    std::vector<double> flat_misfit(count, std::numeric_limits<double>::infinity());
     std::vector<Candidate> best(count);     // the sample's normal, unscored
     float step = cone / 2;
     for (int level = 0; level <= o.levels; ++level, step /= 2) {
@@ -118,20 +264,29 @@ PixelNormals EstimateNormals(const BasisView& basis, PixelObservations* obs,
             if (s.norm() <= cone * 1.0001f) lists[p].push_back({s});
           }
       std::vector<std::vector<Candidate>> scored;
-      ScoreCandidates(basis, *obs, first, count, lists, solve, o, &scored);
+      if (by_centre)
+        ScoreAgainstCentres(basis, *obs, first, count, lists, groups, *model, solve, o, &scored);
+      else
+        ScoreCandidates(basis, *obs, first, count, lists, solve, o, &scored);
       for (int p = 0; p < count; ++p) {
         if (level == 0)
           for (const Candidate& c : scored[p])
-            if (c.slope.isZero()) flat_views[p] = c.views;
+            if (c.slope.isZero()) flat_views[p] = c.views, flat_misfit[p] = c.misfit;
         for (const Candidate& c : scored[p])
           if (c.score < best[p].score && c.views >= flat_views[p] - kViewsItMayLose) best[p] = c;
       }
     }
     for (int p = 0; p < count; ++p) {
       if (!std::isfinite(best[p].score)) continue;  // no usable candidate: kAssumed
+      // No centre explains the pixel even at its best normal: nothing to judge the normal by.
+      if (by_centre && best[p].misfit > model->groups[best[p].group].misfit_limit) continue;
       // A minimum on the cone's edge is not a minimum: the true tilt may lie beyond.
       if (best[p].slope.norm() >= cone * 0.98f) {
         out.status[first + p] = NormalStatus::kRefused;
+        continue;
+      }
+      if (!TiltEarnsItsKeep(flat_misfit[p], best[p], o.evidence)) {
+        out.status[first + p] = NormalStatus::kNoEvidence;
         continue;
       }
       const Eigen::Vector3f n = NormalOfSlope(best[p].slope.x(), best[p].slope.y());

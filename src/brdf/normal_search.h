@@ -14,7 +14,11 @@
 #include <cstdint>
 #include <vector>
 
+#include <optional>
+#include <string>
+
 #include "brdf/pixel_solver.h"
+#include "brdf/pooled_model.h"
 
 namespace acq {
 
@@ -23,6 +27,8 @@ enum class NormalStatus : std::uint8_t {
   kEstimated = 1,  // the search's minimum, inside its cone
   kRefused = 2,    // the minimum lay on the cone's edge (relief too steep for the search, or
                    // the data cannot tell): the sample's normal kept, flagged
+  kNoEvidence = 3,  // the best tilt did not lower the misfit enough to pay for its two
+                    // parameters (NormalSearchOptions::evidence): the sample's normal kept
 };
 
 // What a candidate normal is scored by (the residual of its k-component solve).
@@ -30,7 +36,15 @@ enum class NormalCriterion {
   kFit,      // the misfit at the pixel's own views: lowest at a slightly wrong normal that lets
              // the coefficients bend to the data (docs/reconstruction.md, "Normals")
   kHeldOut,  // each view predicted by the solve without it (ResidualKind::kLeaveOneViewOut)
+  // The misfit of the pixel's material group's centre (pooled_model.h), coefficients held: a
+  // candidate normal cannot bend them, so the normal must place the lobe where the material,
+  // known from all its pixels, has it. The group: of the 3 nearest to the pixel's flat solve,
+  // the one whose centre fits best at the candidate. A pixel no centre explains (misfit above
+  // the group's limit at its best normal) keeps the sample's normal (kAssumed).
+  kCentre,
 };
+const char* NormalCriterionName(NormalCriterion criterion);  // "fit", "held-out", "centre"
+std::optional<NormalCriterion> ParseNormalCriterion(const std::string& name);
 
 struct NormalSearchOptions {
   bool enabled = false;
@@ -49,6 +63,13 @@ struct NormalSearchOptions {
   // value by n.l / l.z by 20% (85 degrees), which lets a wrong normal absorb the basis's misfit
   // there; the normal shows in where the lobe falls, which the other views see.
   double score_min_cos = 0;
+  // A tilt must earn its two parameters: with N = 3 x views residuals, the best candidate is
+  // taken only if N ln(misfit^2 at the sample's normal / misfit^2 at it) > evidence x 2 ln N
+  // (evidence 1: the Bayesian information criterion; 0: any lower score wins). Without it the
+  // search tilts flat pixels of materials whose misfit hardly depends on the normal (a dark
+  // fabric), whose solve then moves far: a degree of tilt rescales a grazing view's value by
+  // 20%.
+  double evidence = 1;
   int chunk_pixels = 2048;  // pixels per batch of candidates (memory: chunk x 25 x views)
   void Check(const BasisView& basis) const;  // throws UserError
 };
@@ -64,8 +85,11 @@ struct PixelNormals {
 // candidate is scored by an independent solve of options.components (scoring by the pooled
 // solve, the group's prior, was tried: 16k pixels took 72 s and no candidate came out valid;
 // not pursued yet: docs/reconstruction.md, "Normals").
+// NormalCriterion::kCentre needs `model` with groups (fitted on observations taken as flat);
+// without one, such a search leaves every normal assumed.
 PixelNormals EstimateNormals(const BasisView& basis, PixelObservations* observations,
-                             const PixelSolveOptions& solve, const NormalSearchOptions& options);
+                             const PixelSolveOptions& solve, const NormalSearchOptions& options,
+                             const PooledModel* model = nullptr);
 
 // One pixel's observations turned into the frame of normal n (what the search tries and what it
 // applies): values rescaled by n.l / l.z, views grazing the facet (cos below min_cos) missing.

@@ -44,11 +44,9 @@ ReconstructionMethod MethodFrom(const Args& args) {
 }
 
 NormalCriterion NormalCriterionFrom(const Args& args, NormalCriterion fallback) {
-  const std::string c =
-      args.Get("normals-criterion", fallback == NormalCriterion::kFit ? "fit" : "held-out");
-  if (c == "fit") return NormalCriterion::kFit;
-  if (c == "held-out") return NormalCriterion::kHeldOut;
-  throw UserError("--normals-criterion", "must be 'fit' or 'held-out', got '" + c + "'");
+  const std::string c = args.Get("normals-criterion", NormalCriterionName(fallback));
+  if (const std::optional<NormalCriterion> criterion = ParseNormalCriterion(c)) return *criterion;
+  throw UserError("--normals-criterion", "must be 'fit', 'held-out' or 'centre', got '" + c + "'");
 }
 
 // The sample: a built-in one (--sample) or one described in a file (--sample-labels,
@@ -172,7 +170,8 @@ int ReconstructSynthetic(const Argv& argv) {
                                   "normals-prior",
                                   "normals-k",
                                   "normals-criterion",
-                                  "normals-score-min-cos"};
+                                  "normals-score-min-cos",
+                                  "normals-evidence"};
   valued.insert(kGeometryOptions.begin(), kGeometryOptions.end());
   const Args args("acq reconstruct synthetic", argv, valued,
                   {"ignore-near-field", "truth-tables", "score", "quiet", "normals"});
@@ -239,6 +238,7 @@ int ReconstructSynthetic(const Argv& argv) {
   r.normals.prior = args.GetDouble("normals-prior", r.normals.prior, 0, 1e6);
   r.normals.components = args.GetInt("normals-k", r.normals.components, 1, 64);
   r.normals.criterion = NormalCriterionFrom(args, r.normals.criterion);
+  r.normals.evidence = args.GetDouble("normals-evidence", r.normals.evidence, 0, 1e6);
   r.normals.score_min_cos =
       args.GetDouble("normals-score-min-cos", r.normals.score_min_cos, 0, 0.9);
   r.progress = !args.Has("quiet");
