@@ -887,7 +887,11 @@ TEST_CASE("normals of an embossed glossy card are recovered; flat areas stay fla
   NormalSearchOptions search;
   search.enabled = true;
   search.prior = 2;
-  const PixelNormals normals = EstimateNormals(d.basis.View(), &obs, PerPixel(), search);
+  // The material groups the search judges by, fitted on the card's pixels taken as flat, as
+  // the reconstruction fits them on its sample.
+  const PooledModel reference = FitNormalReference(d.basis.View(), obs, PerPixel(), search, {});
+  const PixelNormals normals =
+      EstimateNormals(d.basis.View(), &obs, PerPixel(), search, &reference);
   std::vector<double> relief_error, flat_error, assumed_error;
   for (std::size_t p = 0; p < scene.label.size(); ++p) {
     const Eigen::Vector3f truth = scene.normal[p];
@@ -904,7 +908,8 @@ TEST_CASE("normals of an embossed glossy card are recovered; flat areas stay fla
   REQUIRE(relief_error.size() > 100);
   REQUIRE(flat_error.size() > 100);
   // The issue's goals (2 degrees over the relief, 0.5 of false tilt on flat areas); measured
-  // here 0.7 and 0.2 on a 96 x 96 card, against 4.6 degrees for the sample's normal assumed.
+  // here 1.26 and 0.21 (criterion centre), against 4.6 degrees for the sample's normal assumed.
+  INFO("relief " << Median(relief_error) << ", flat " << Median(flat_error));
   CHECK(Median(relief_error) < 2.0);
   CHECK(Median(flat_error) < 0.5);
   CHECK(Median(assumed_error) > 3.0);
@@ -920,7 +925,9 @@ TEST_CASE("relief too steep for the search: refused or estimated, never NaN", "[
                                                      d.views, {}, 0, int(scene.label.size()));
   NormalSearchOptions search;
   search.enabled = true;
-  const PixelNormals normals = EstimateNormals(d.basis.View(), &obs, PerPixel(), search);
+  const PooledModel reference = FitNormalReference(d.basis.View(), obs, PerPixel(), search, {});
+  const PixelNormals normals =
+      EstimateNormals(d.basis.View(), &obs, PerPixel(), search, &reference);
   int refused = 0;
   for (std::size_t p = 0; p < scene.label.size(); ++p) {
     REQUIRE(normals.normal[p].allFinite());

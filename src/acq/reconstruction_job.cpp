@@ -60,9 +60,11 @@ void ReconstructionReport::Print() const {
     std::printf("pooled: %ld pixels with their group's prior, %ld alone; model %.2f s\n", pooled,
                 pixels - pooled, model_seconds);
   }
-  if (normals_estimated + normals_refused > 0 || normal_seconds > 0)
-    std::printf("normals: %ld estimated, %ld refused (the sample's normal kept); %.2f s\n",
-                normals_estimated, normals_refused, normal_seconds);
+  if (normals_estimated + normals_refused + normals_no_evidence > 0 || normal_seconds > 0)
+    std::printf(
+        "normals: %ld estimated, %ld refused, %ld without evidence for a tilt (the sample's "
+        "normal kept); %.2f s\n",
+        normals_estimated, normals_refused, normals_no_evidence, normal_seconds);
   std::printf("time: %.3f s solving, %.2f s in all: %.3f megapixels/s\n", solve_seconds,
               total_seconds, total_seconds > 0 ? double(pixels) / total_seconds / 1e6 : 0.0);
 }
@@ -81,19 +83,13 @@ ReconstructionReport Reconstruct(const BasisView& basis, ObservationSource& sour
   // known (the observations taken as flat), whatever the method.
   const bool centre_normals =
       options.normals.enabled && options.normals.criterion == NormalCriterion::kCentre;
-  PooledModel normals_model;
+  PooledModel normals_reference;
   if (pooled || centre_normals) {
-    const PixelObservations as_read = ReadSample(source, options);
-    PixelObservations sample = as_read;
-    if (centre_normals) {
-      // Fitted once on the sample taken as flat, whose relief blurs each centre's lobe; then
-      // again on the sample turned into the normals that model finds, a sharper reference.
-      normals_model = FitPooledModel(basis, sample, options.solve, options.pooled);
-      EstimateNormals(basis, &sample, options.solve, options.normals, &normals_model);
-      normals_model = FitPooledModel(basis, sample, options.solve, options.pooled);
-      sample = as_read;
-    }
-    EstimateNormals(basis, &sample, options.solve, options.normals, &normals_model);
+    PixelObservations sample = ReadSample(source, options);
+    if (centre_normals)
+      normals_reference =
+          FitNormalReference(basis, sample, options.solve, options.normals, options.pooled);
+    EstimateNormals(basis, &sample, options.solve, options.normals, &normals_reference);
     // The model is fitted on the sample's observations in their facets' frames, as it is used.
     if (pooled) report.model = FitPooledModel(basis, sample, options.solve, options.pooled);
     report.model_seconds = std::chrono::duration<double>(Clock::now() - start).count();
@@ -117,7 +113,7 @@ ReconstructionReport Reconstruct(const BasisView& basis, ObservationSource& sour
     PixelObservations obs = source.Rows(y0, rows);
     const auto normal_start = Clock::now();
     const PixelNormals normals =
-        EstimateNormals(basis, &obs, options.solve, options.normals, &normals_model);
+        EstimateNormals(basis, &obs, options.solve, options.normals, &normals_reference);
     report.normal_seconds += std::chrono::duration<double>(Clock::now() - normal_start).count();
     PixelSolution solution;
     solution.Resize(obs.pixels, k);
@@ -142,6 +138,7 @@ ReconstructionReport Reconstruct(const BasisView& basis, ObservationSource& sour
       band[3 * k + 9][p] = float(normals.status[p]);
       report.normals_estimated += normals.status[p] == NormalStatus::kEstimated;
       report.normals_refused += normals.status[p] == NormalStatus::kRefused;
+      report.normals_no_evidence += normals.status[p] == NormalStatus::kNoEvidence;
       report.pooled += solution.group[p] >= 0;
       ++report.pixels;
       if (solution.valid[p]) {

@@ -32,6 +32,7 @@ struct ReconstructionReport {
   long pooled = 0;           // kPooled: pixels solved with their group's prior (the rest alone)
   double model_seconds = 0;  // kPooled: reading the sample and fitting the model
   long normals_estimated = 0, normals_refused = 0;  // normals.enabled
+  long normals_no_evidence = 0;  // a tilt found that did not earn its keep (NormalStatus)
   double normal_seconds = 0;
   double solve_seconds = 0, total_seconds = 0;
   void Print() const;

@@ -23,7 +23,7 @@ struct Candidate {
   int views = 0;  // the solve's observations
   // Criterion kCentre: the group whose centre scored it, and that centre's RMS misfit.
   int group = -1;
-  double misfit = 0;
+  double misfit = std::numeric_limits<double>::infinity();
 };
 
 // Scores candidates[p] (one list per pixel of the chunk [first, first + count)) with one batch
@@ -68,12 +68,12 @@ void ScoreCandidates(const BasisView& basis, const PixelObservations& obs, int f
 
 // The information criterion of NormalSearchOptions::evidence: does the best candidate's misfit
 // (RMS over 3 x views residuals) improve on the sample's normal's by enough for two parameters?
-bool TiltEarnsItsKeep(double flat_misfit, const Candidate& best, double evidence) {
-  if (best.slope.isZero()) return true;  // nothing to earn
-  if (!std::isfinite(flat_misfit)) return true;  // the flat normal was not usable at all
+bool TiltEarnsItsKeep(const Candidate& flat, const Candidate& best, double evidence) {
+  if (best.slope.isZero()) return true;          // nothing to earn
+  if (!std::isfinite(flat.misfit)) return true;  // the sample's normal was not usable at all
   if (!(best.misfit > 0)) return true;
   const double n = 3.0 * best.views;
-  return n * 2 * std::log(flat_misfit / best.misfit) > evidence * 2 * std::log(n);
+  return n * 2 * std::log(flat.misfit / best.misfit) > evidence * 2 * std::log(n);
 }
 
 // Criterion kCentre: each pixel's candidate groups (the kCentreGroups nearest to its flat
@@ -113,13 +113,6 @@ std::vector<std::vector<int>> NearestGroups(const BasisView& basis, const PixelO
   return nearest;
 }
 
-// The centre scorer over a chunk's candidate lists (OpenMP across pixels).
-void ScoreAgainstCentres(const BasisView& basis, const PixelObservations& obs, int first,
-                         int count, const std::vector<std::vector<Candidate>>& lists,
-                         const std::vector<std::vector<int>>& groups, const PooledModel& model,
-                         const PixelSolveOptions& solve, const NormalSearchOptions& o,
-                         std::vector<std::vector<Candidate>>* scored);
-
 // One pixel's candidates scored by the best of its groups' centres, coefficients held.
 struct CentreScorer {
   const BasisView& basis;
@@ -127,49 +120,62 @@ struct CentreScorer {
   RowLookup lookup;
   PixelObservations one;
   ViewRows rows;
+  std::vector<int> used;  // views usable at the candidate
+  std::vector<double> y;  // their mapped observations less the mean, 3 a view
 
-  // The RMS log-space misfit of group g's centre at the pixel's observations in `one`.
-  double Misfit(int g, int* views) {
-    const int K = model.components;
-    const std::vector<float>& c = model.groups[g].centre;
-    double sum = 0;
-    int n = 0;
+  // The observations in `one`, mapped, with the basis sampled at kc components.
+  void Prepare(int kc) {
+    rows.Sample(basis, one, 0, kc, lookup);
+    used.clear();
+    y.clear();
     for (int v = 0; v < one.views; ++v) {
       const float* rgb = &one.rgb[3 * v];
       if (!(rows.ok[v] && std::isfinite(rgb[0]) && std::isfinite(rgb[1]) && std::isfinite(rgb[2])))
         continue;
       const BasisSample& s = rows.samples[v];
-      for (int ch = 0; ch < 3; ++ch) {
-        double predicted = 0;
-        for (int j = 0; j < K; ++j) predicted += rows.rows(v, j) * c[std::size_t(ch) * K + j];
-        sum += std::pow(predicted - (MapBrdf(rgb[ch], s.cos_weight, s.ref) - s.mean), 2);
-      }
-      ++n;
+      used.push_back(v);
+      for (int ch = 0; ch < 3; ++ch) y.push_back(MapBrdf(rgb[ch], s.cos_weight, s.ref) - s.mean);
     }
-    *views = n;
-    return n > 0 ? std::sqrt(sum / (3.0 * n)) : std::numeric_limits<double>::infinity();
+  }
+
+  // The RMS log-space misfit of group g's centre (its k_c components; zero past them).
+  double Misfit(int g) const {
+    const PooledGroup& group = model.groups[g];
+    const int K = model.components, kc = group.centre_components;
+    double sum = 0;
+    for (std::size_t i = 0; i < used.size(); ++i)
+      for (int ch = 0; ch < 3; ++ch) {
+        const float* c = &group.centre[std::size_t(ch) * K];
+        double predicted = 0;
+        for (int j = 0; j < kc; ++j) predicted += rows.rows(used[i], j) * c[j];
+        sum += std::pow(predicted - y[3 * i + ch], 2);
+      }
+    return used.empty() ? std::numeric_limits<double>::infinity()
+                        : std::sqrt(sum / (3.0 * double(used.size())));
   }
 
   void Score(const PixelObservations& obs, int pixel, const std::vector<int>& groups,
              const NormalSearchOptions& o, int min_views, std::vector<Candidate>* candidates) {
     one.Resize(1, obs.views);
+    int kc = 0;
+    for (int g : groups) kc = std::max(kc, model.groups[g].centre_components);
     for (Candidate& cand : *candidates) {
       ToFacetFrame(NormalOfSlope(cand.slope.x(), cand.slope.y()),
                    std::max(o.min_cos, o.score_min_cos), obs, pixel, &one, 0);
-      rows.Sample(basis, one, 0, model.components, lookup);
+      Prepare(kc);
+      if (int(used.size()) < min_views) continue;
       for (int g : groups) {
-        int views = 0;
-        const double misfit = Misfit(g, &views);
-        if (views < min_views) continue;
+        const double misfit = Misfit(g);
         const double score = misfit + o.prior * double(cand.slope.squaredNorm());
-        if (score < cand.score) cand = {cand.slope, score, views, g, misfit};
+        if (score < cand.score) cand = {cand.slope, score, int(used.size()), g, misfit};
       }
     }
   }
 };
 
-void ScoreAgainstCentres(const BasisView& basis, const PixelObservations& obs, int first,
-                         int count, const std::vector<std::vector<Candidate>>& lists,
+// The centre scorer over a chunk's candidate lists (OpenMP across pixels).
+void ScoreAgainstCentres(const BasisView& basis, const PixelObservations& obs, int first, int count,
+                         const std::vector<std::vector<Candidate>>& lists,
                          const std::vector<std::vector<int>>& groups, const PooledModel& model,
                          const PixelSolveOptions& solve, const NormalSearchOptions& o,
                          std::vector<std::vector<Candidate>>* scored) {
@@ -187,15 +193,19 @@ void ScoreAgainstCentres(const BasisView& basis, const PixelObservations& obs, i
 
 const char* NormalCriterionName(NormalCriterion criterion) {
   switch (criterion) {
-    case NormalCriterion::kFit: return "fit";
-    case NormalCriterion::kHeldOut: return "held-out";
-    case NormalCriterion::kCentre: return "centre";
+    case NormalCriterion::kFit:
+      return "fit";
+    case NormalCriterion::kHeldOut:
+      return "held-out";
+    case NormalCriterion::kCentre:
+      return "centre";
   }
   return "?";
 }
 
 std::optional<NormalCriterion> ParseNormalCriterion(const std::string& name) {
-  for (NormalCriterion c : {NormalCriterion::kFit, NormalCriterion::kHeldOut, NormalCriterion::kCentre})
+  for (NormalCriterion c :
+       {NormalCriterion::kFit, NormalCriterion::kHeldOut, NormalCriterion::kCentre})
     if (name == NormalCriterionName(c)) return c;
   return std::nullopt;
 }
@@ -209,6 +219,8 @@ void NormalSearchOptions::Check(const BasisView& basis) const {
     throw UserError("normals k", "must be in [1, " + std::to_string(basis.components) + "]");
   if (!(prior >= 0)) throw UserError("normals prior", "must be >= 0");
   if (!(evidence >= 0)) throw UserError("normals evidence", "must be >= 0");
+  if (!(estimated_min_cos >= 0 && estimated_min_cos < 1))
+    throw UserError("normals estimated min cos", "must be in [0, 1)");
   if (levels < 0 || levels > 12) throw UserError("normals levels", "must be in [0, 12]");
   if (chunk_pixels < 1) throw UserError("normals chunk", "must be at least 1");
 }
@@ -235,74 +247,110 @@ void ToFacetFrame(const Eigen::Vector3f& n, double min_cos, const PixelObservati
   }
 }
 
+namespace {
+
+// One chunk's coarse-to-fine search: each pixel's best candidate, and the sample's normal
+// scored, for the evidence test.
+struct ChunkSearch {
+  std::vector<Candidate> best, flat;
+};
+
+ChunkSearch SearchChunk(const BasisView& basis, const PixelObservations& obs, int first, int count,
+                        const PixelSolveOptions& solve, const NormalSearchOptions& o,
+                        const PooledModel* reference) {
+  const float cone = float(std::tan(DegToRad(o.max_tilt_deg)));
+  ChunkSearch c;
+  std::vector<std::vector<int>> groups =
+      reference ? NearestGroups(basis, obs, first, count, *reference, solve)
+                : std::vector<std::vector<int>>();
+  c.best.assign(count, Candidate{Eigen::Vector2f::Zero()});
+  c.flat.resize(count);
+  float step = cone / 2;
+  for (int level = 0; level <= o.levels; ++level, step /= 2) {
+    const int reach = level == 0 ? 2 : 1;  // 5 x 5, then 3 x 3 around the best
+    std::vector<std::vector<Candidate>> lists(count);
+    for (int p = 0; p < count; ++p)
+      for (int a = -reach; a <= reach; ++a)
+        for (int b = -reach; b <= reach; ++b) {
+          if (level > 0 && a == 0 && b == 0) continue;  // the best so far, scored already
+          const Eigen::Vector2f s = c.best[p].slope + step * Eigen::Vector2f(float(a), float(b));
+          if (s.norm() <= cone * 1.0001f) lists[p].push_back({s});
+        }
+    std::vector<std::vector<Candidate>> scored;
+    if (reference)
+      ScoreAgainstCentres(basis, obs, first, count, lists, groups, *reference, solve, o, &scored);
+    else
+      ScoreCandidates(basis, obs, first, count, lists, solve, o, &scored);
+    for (int p = 0; p < count; ++p) {
+      if (level == 0)
+        for (const Candidate& cand : scored[p])
+          if (cand.slope.isZero()) c.flat[p] = cand;
+      for (const Candidate& cand : scored[p])
+        if (cand.score < c.best[p].score && cand.views >= c.flat[p].views - kViewsItMayLose)
+          c.best[p] = cand;
+      // The coarse grid chose the group (jointly with the tilt); the refinements keep it.
+      if (level == 0 && reference && c.best[p].group >= 0) groups[p] = {c.best[p].group};
+    }
+  }
+  return c;
+}
+
+// The pixel's own observations, copied (to turn them in place).
+PixelObservations OnePixel(const PixelObservations& obs, int pixel) {
+  PixelObservations one;
+  one.Resize(1, obs.views);
+  for (int v = 0; v < obs.views; ++v) {
+    const std::size_t i = obs.At(pixel, v);
+    one.light[v] = obs.light[i];
+    one.camera[v] = obs.camera[i];
+    for (int ch = 0; ch < 3; ++ch) one.rgb[3 * v + ch] = obs.rgb[3 * i + ch];
+  }
+  return one;
+}
+
+}  // namespace
+
+PooledModel FitNormalReference(const BasisView& basis, const PixelObservations& sample,
+                               const PixelSolveOptions& solve, const NormalSearchOptions& o,
+                               const PooledOptions& pooled) {
+  PooledOptions reference = pooled;
+  reference.centre_eta_fractions = {1, 1.0 / 4, 1.0 / 16, 1.0 / 64, 1.0 / 256};
+  return FitPooledModel(basis, sample, solve, reference);
+}
+
 PixelNormals EstimateNormals(const BasisView& basis, PixelObservations* obs,
                              const PixelSolveOptions& solve, const NormalSearchOptions& o,
-                             const PooledModel* model) {
+                             const PooledModel* reference) {
   o.Check(basis);
   PixelNormals out;
   out.Resize(obs->pixels);
   if (!o.enabled) return out;
   const bool by_centre = o.criterion == NormalCriterion::kCentre;
-  if (by_centre && (!model || model->groups.empty())) return out;  // no centre to judge by
+  if (by_centre && (!reference || reference->groups.empty())) return out;
   const float cone = float(std::tan(DegToRad(o.max_tilt_deg)));
   for (int first = 0; first < obs->pixels; first += o.chunk_pixels) {
     const int count = std::min(o.chunk_pixels, obs->pixels - first);
-    const std::vector<std::vector<int>> groups =
-        by_centre ? NearestGroups(basis, *obs, first, count, *model, solve)
-                  : std::vector<std::vector<int>>();
-    std::vector<int> flat_views(count, 0);  // the views the sample's normal's solve used
-    std::vector<double> flat_misfit(count, std::numeric_limits<double>::infinity());
-    std::vector<Candidate> best(count);     // the sample's normal, unscored
-    float step = cone / 2;
-    for (int level = 0; level <= o.levels; ++level, step /= 2) {
-      const int reach = level == 0 ? 2 : 1;  // 5 x 5, then 3 x 3 around the best
-      std::vector<std::vector<Candidate>> lists(count);
-      for (int p = 0; p < count; ++p)
-        for (int a = -reach; a <= reach; ++a)
-          for (int b = -reach; b <= reach; ++b) {
-            const Eigen::Vector2f s = best[p].slope + step * Eigen::Vector2f(float(a), float(b));
-            if (s.norm() <= cone * 1.0001f) lists[p].push_back({s});
-          }
-      std::vector<std::vector<Candidate>> scored;
-      if (by_centre)
-        ScoreAgainstCentres(basis, *obs, first, count, lists, groups, *model, solve, o, &scored);
-      else
-        ScoreCandidates(basis, *obs, first, count, lists, solve, o, &scored);
-      for (int p = 0; p < count; ++p) {
-        if (level == 0)
-          for (const Candidate& c : scored[p])
-            if (c.slope.isZero()) flat_views[p] = c.views, flat_misfit[p] = c.misfit;
-        for (const Candidate& c : scored[p])
-          if (c.score < best[p].score && c.views >= flat_views[p] - kViewsItMayLose) best[p] = c;
-      }
-    }
+    const ChunkSearch c =
+        SearchChunk(basis, *obs, first, count, solve, o, by_centre ? reference : nullptr);
     for (int p = 0; p < count; ++p) {
-      if (!std::isfinite(best[p].score)) continue;  // no usable candidate: kAssumed
+      const Candidate& best = c.best[p];
+      if (!std::isfinite(best.score)) continue;  // no usable candidate: kAssumed
       // No centre explains the pixel even at its best normal: nothing to judge the normal by.
-      if (by_centre && best[p].misfit > model->groups[best[p].group].misfit_limit) continue;
+      if (by_centre && best.misfit > reference->groups[best.group].misfit_limit) continue;
       // A minimum on the cone's edge is not a minimum: the true tilt may lie beyond.
-      if (best[p].slope.norm() >= cone * 0.98f) {
+      if (best.slope.norm() >= cone * 0.98f) {
         out.status[first + p] = NormalStatus::kRefused;
         continue;
       }
-      if (!TiltEarnsItsKeep(flat_misfit[p], best[p], o.evidence)) {
+      if (!TiltEarnsItsKeep(c.flat[p], best, o.evidence)) {
         out.status[first + p] = NormalStatus::kNoEvidence;
         continue;
       }
-      const Eigen::Vector3f n = NormalOfSlope(best[p].slope.x(), best[p].slope.y());
+      const Eigen::Vector3f n = NormalOfSlope(best.slope.x(), best.slope.y());
       out.normal[first + p] = n;
       out.status[first + p] = NormalStatus::kEstimated;
-      const PixelObservations before = [&] {  // the pixel's own, copied: to and from overlap
-        PixelObservations one;
-        one.Resize(1, obs->views);
-        for (int v = 0; v < obs->views; ++v) {
-          one.light[v] = obs->light[obs->At(first + p, v)];
-          one.camera[v] = obs->camera[obs->At(first + p, v)];
-          for (int c = 0; c < 3; ++c) one.rgb[3 * v + c] = obs->rgb[3 * obs->At(first + p, v) + c];
-        }
-        return one;
-      }();
-      ToFacetFrame(n, o.min_cos, before, 0, obs, first + p);
+      ToFacetFrame(n, std::max(o.min_cos, o.estimated_min_cos), OnePixel(*obs, first + p), 0, obs,
+                   first + p);
     }
   }
   return out;

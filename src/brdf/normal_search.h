@@ -23,10 +23,10 @@
 namespace acq {
 
 enum class NormalStatus : std::uint8_t {
-  kAssumed = 0,    // not estimated: the sample's normal (search off, or no usable view)
-  kEstimated = 1,  // the search's minimum, inside its cone
-  kRefused = 2,    // the minimum lay on the cone's edge (relief too steep for the search, or
-                   // the data cannot tell): the sample's normal kept, flagged
+  kAssumed = 0,     // not estimated: the sample's normal (search off, or no usable view)
+  kEstimated = 1,   // the search's minimum, inside its cone
+  kRefused = 2,     // the minimum lay on the cone's edge (relief too steep for the search, or
+                    // the data cannot tell): the sample's normal kept, flagged
   kNoEvidence = 3,  // the best tilt did not lower the misfit enough to pay for its two
                     // parameters (NormalSearchOptions::evidence): the sample's normal kept
 };
@@ -50,7 +50,7 @@ struct NormalSearchOptions {
   bool enabled = false;
   double max_tilt_deg = 25;  // the cone searched around the sample's normal
   int components = 8;        // k of the search's solves (fewer than the views: identifiable)
-  NormalCriterion criterion = NormalCriterion::kFit;
+  NormalCriterion criterion = NormalCriterion::kCentre;  // docs/reconstruction.md, "Normals"
   double eta = kDefaultEta;
   double prior = 0.05;  // weight of tan^2(tilt) against the RMS log-space residual
   int levels = 6;       // refinements after the coarse grid (the last step: cone / 128)
@@ -63,6 +63,12 @@ struct NormalSearchOptions {
   // value by n.l / l.z by 20% (85 degrees), which lets a wrong normal absorb the basis's misfit
   // there; the normal shows in where the lobe falls, which the other views see.
   double score_min_cos = 0;
+  // Views and lights at or below this cosine to an estimated facet are left out of the solve
+  // that follows: a value rescaled by n.l / l.z moves by tan(theta) per radian of the normal's
+  // error (6.5% a degree at 75 degrees, 20% at 85). 0: every view kept, as for a flat pixel.
+  // Measured (docs/reconstruction.md, "Normals"): 0.26 helps a dark fabric and a white paint and
+  // the embossed card, hurts brass and pink jasper on flat areas; hence 0.
+  double estimated_min_cos = 0;
   // A tilt must earn its two parameters: with N = 3 x views residuals, the best candidate is
   // taken only if N ln(misfit^2 at the sample's normal / misfit^2 at it) > evidence x 2 ln N
   // (evidence 1: the Bayesian information criterion; 0: any lower score wins). Without it the
@@ -85,11 +91,21 @@ struct PixelNormals {
 // candidate is scored by an independent solve of options.components (scoring by the pooled
 // solve, the group's prior, was tried: 16k pixels took 72 s and no candidate came out valid;
 // not pursued yet: docs/reconstruction.md, "Normals").
-// NormalCriterion::kCentre needs `model` with groups (fitted on observations taken as flat);
-// without one, such a search leaves every normal assumed.
+// What criterion kCentre judges a normal by: the material groups (pooled_model.h) fitted on a
+// sample of the image's pixels taken as flat, each centre's ridge chosen by its held-out views
+// from eta x 1, 1/4, ..., 1/256 (PooledOptions::centre_eta_fractions). A centre regularised as
+// one pixel is (eta) leaves a residual at grazing views that a tilt of 1-2 degrees absorbs (a
+// dark fabric at 4 degrees: 1 degree of false tilt, its map 0.85 against 0.50 flat); one
+// barely regularised extrapolates wildly to the directions a tilted candidate asks about.
+PooledModel FitNormalReference(const BasisView& basis, const PixelObservations& sample,
+                               const PixelSolveOptions& solve, const NormalSearchOptions& options,
+                               const PooledOptions& pooled);
+
+// NormalCriterion::kCentre needs a reference with groups; without one such a search leaves
+// every normal assumed.
 PixelNormals EstimateNormals(const BasisView& basis, PixelObservations* observations,
                              const PixelSolveOptions& solve, const NormalSearchOptions& options,
-                             const PooledModel* model = nullptr);
+                             const PooledModel* reference = nullptr);
 
 // One pixel's observations turned into the frame of normal n (what the search tries and what it
 // applies): values rescaled by n.l / l.z, views grazing the facet (cos below min_cos) missing.

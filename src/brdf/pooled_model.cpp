@@ -3,6 +3,7 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <random>
 #include <sstream>
@@ -58,8 +59,9 @@ std::string PooledModel::Summary() const {
   s << "\n";
   for (std::size_t g = 0; g < groups.size(); ++g)
     s << "  group " << g << ": " << groups[g].sample_pixels << " sample pixels, k_c "
-      << groups[g].centre_components << ", misfit limit " << groups[g].misfit_limit << ", strength "
-      << groups[g].strength << ", held-out RMS " << groups[g].held_out_rms << "\n";
+      << groups[g].centre_components << ", eta " << groups[g].centre_eta << ", misfit limit "
+      << groups[g].misfit_limit << ", strength " << groups[g].strength << ", held-out RMS "
+      << groups[g].held_out_rms << "\n";
   return s.str();
 }
 
@@ -390,6 +392,23 @@ int ChooseCentreComponents(const ViewStats& stats, int k, double eta) {
   return best_kc;
 }
 
+// The centre's ridge (and its components at that ridge) by its held-out error, from eta times
+// each fraction in turn: a smaller ridge is taken only if it lowers the error by
+// kSizeTolerance (the smallest departure from the one-pixel regularisation that earns it).
+void ChooseCentreRidge(const ViewStats& stats, int k, double eta,
+                       const std::vector<double>& fractions, int* centre_components,
+                       double* centre_eta) {
+  std::vector<double> ridges = fractions;
+  std::sort(ridges.begin(), ridges.end(), std::greater<double>());
+  double best = std::numeric_limits<double>::infinity();
+  for (double f : ridges) {
+    const int kc = ChooseCentreComponents(stats, k, eta * f);
+    const double err = CentreHeldOut(stats, kc, eta * f);
+    if (err < best * (1 - kSizeTolerance))
+      best = err, *centre_components = kc, *centre_eta = eta * f;
+  }
+}
+
 struct GroupFit {
   Eigen::MatrixXd centre;  // K x 3
   int centre_components = 0;
@@ -515,8 +534,12 @@ PooledModel FitPooledModel(const BasisView& basis, const PixelObservations& samp
     if (members[g].empty()) continue;
     const ViewStats stats(pixels, members[g], K, sample.views);
     GroupFit fit;
+    double centre_eta = solve.eta;
     fit.centre_components = ChooseCentreComponents(stats, k, solve.eta);
-    fit.centre = stats.Centre(fit.centre_components, solve.eta);
+    if (!options.centre_eta_fractions.empty())
+      ChooseCentreRidge(stats, k, solve.eta, options.centre_eta_fractions, &fit.centre_components,
+                        &centre_eta);
+    fit.centre = stats.Centre(fit.centre_components, centre_eta);
     ChooseStrength(pixels, members[g], stats, solve.eta, grid, &fit);
     PooledGroup group;
     group.feature = features[g];
@@ -524,6 +547,7 @@ PooledModel FitPooledModel(const BasisView& basis, const PixelObservations& samp
     for (int ch = 0; ch < 3; ++ch)
       for (int j = 0; j < K; ++j) group.centre[ch * K + j] = float(fit.centre(j, ch));
     group.centre_components = fit.centre_components;
+    group.centre_eta = centre_eta;
     group.strength = fit.strength;
     group.sample_pixels = int(members[g].size());
     group.held_out_rms = Rms(fit.squared_error, fit.observations);

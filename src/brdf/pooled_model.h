@@ -39,13 +39,19 @@ struct PooledOptions {
   int max_groups = 64;       // the largest G tried
   int sample_pixels = 8192;  // pixels the model is fitted on (spread over the image)
   std::uint64_t seed = 1;    // k-means++ seeding and the sample's choice
-  void Check() const;        // throws UserError
+  // Empty: each centre is regularised with the solve's eta, as one pixel is (what the pooled
+  // solve's prior needs). Otherwise each group's centre ridge is chosen from eta times these
+  // fractions by the centre's held-out views, as its components are: the normal search's
+  // reference (normal_search.h), which must predict the material at directions no view saw.
+  std::vector<double> centre_eta_fractions;
+  void Check() const;  // throws UserError
 };
 
 struct PooledGroup {
   std::vector<double> feature;  // the k-means centroid, PooledModel::features per channel x 3
   std::vector<float> centre;    // 3 x PooledModel::components, R then G then B; zero past k_c
   int centre_components = 0;    // k_c
+  double centre_eta = 0;        // the ridge the centre was fitted with
   double strength = 0;          // lambda of the prior; infinite: the pixel is its centre
   int sample_pixels = 0;
   double held_out_rms = 0;  // the group's pixels' leave-one-view-out RMS (log space)

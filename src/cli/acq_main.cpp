@@ -82,7 +82,7 @@ const std::map<std::string, Command>& Commands() {
         "    [--relief-deg S [--fibre-deg F] | --height-map EXR|PNG] [--normals\n"
         "    [--normals-max-tilt-deg 25] [--normals-prior 0.05] [--normals-k 8]\n"
         "    [--normals-criterion fit|held-out|centre] [--normals-score-min-cos 0]\n"
-        "    [--normals-evidence 1]]\n"
+        "    [--normals-evidence 1] [--normals-estimated-min-cos 0]]\n"
         "  Reconstructs a synthetic printed card from observations made straight from the\n"
         "  ground truth, per pixel, into an SVBRDF map (docs/svbrdf-map.md); --score compares\n"
         "  every pixel with its true material. --method pooled groups the pixels by material\n"

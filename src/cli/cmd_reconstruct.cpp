@@ -171,7 +171,8 @@ int ReconstructSynthetic(const Argv& argv) {
                                   "normals-k",
                                   "normals-criterion",
                                   "normals-score-min-cos",
-                                  "normals-evidence"};
+                                  "normals-evidence",
+                                  "normals-estimated-min-cos"};
   valued.insert(kGeometryOptions.begin(), kGeometryOptions.end());
   const Args args("acq reconstruct synthetic", argv, valued,
                   {"ignore-near-field", "truth-tables", "score", "quiet", "normals"});
@@ -239,6 +240,8 @@ int ReconstructSynthetic(const Argv& argv) {
   r.normals.components = args.GetInt("normals-k", r.normals.components, 1, 64);
   r.normals.criterion = NormalCriterionFrom(args, r.normals.criterion);
   r.normals.evidence = args.GetDouble("normals-evidence", r.normals.evidence, 0, 1e6);
+  r.normals.estimated_min_cos =
+      args.GetDouble("normals-estimated-min-cos", r.normals.estimated_min_cos, 0, 0.9);
   r.normals.score_min_cos =
       args.GetDouble("normals-score-min-cos", r.normals.score_min_cos, 0, 0.9);
   r.progress = !args.Has("quiet");
