@@ -918,6 +918,17 @@ TEST_CASE(
     // example plan; 6 fails an uncorrected camera (the cross-talk alone is over 10).
     CHECK(colour.at("delta_e2000_validation_median").get<double>() < 6);
     CHECK(colour.at("delta_e2000_albedo_median").get<double>() < 6);
+    // The validation views against the truth: the truth itself against the noisy capture (2.4-2.7
+    // on the example plan) and the map against the truth without that noise (1.6-2.2). The map
+    // can be no closer to the capture than the truth's own figure allows, less the noise it
+    // happens to share: its figure against the capture stays above half the truth's; and the
+    // truth is closer to the capture than an uncorrected or a wrong map (6 and more).
+    const double truth_vs_capture = colour.at("delta_e2000_validation_truth_vs_capture_median");
+    const double map_vs_truth = colour.at("delta_e2000_validation_map_vs_truth_median");
+    CHECK(truth_vs_capture > 0);
+    CHECK(truth_vs_capture < 6);
+    CHECK(map_vs_truth < 6);
+    CHECK(colour.at("delta_e2000_validation_median").get<double>() > 0.5 * truth_vs_capture);
     // The filter is a capture setting: resuming with another is refused, naming it.
     std::string other = ReadText(plan);
     other.replace(other.find("sim:\n"), 5, "sim:\n  camera_filter: BGGR\n");

@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Charts tools/study_normals.sh's CSV: normal error and map error, with and without the search."""
+"""Charts tools/study_normals.sh's CSV: normal error, false tilt and map error per search."""
 import csv
 import sys
 
@@ -8,40 +8,55 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 
+SEARCHES = (("none", "lightgrey", "o:"), ("fit", "tab:orange", "^--"), ("centre", "tab:blue", "s-"))
+
+
+def line_panels(rows, axes):
+    for ax, case, label in ((axes[0], "slope", "relief slope (deg)"), (axes[1], "noise", "noise (relative)")):
+        ax2 = ax.twinx()
+        for search, colour, style in SEARCHES:
+            pts = [r for r in rows if r["case"] == case and r["search"] == search]
+            x = [float(r["value"]) for r in pts]
+            ax.plot(x, [float(r["normal_error_relief_deg"]) for r in pts], style, color=colour,
+                    label="normal error over relief, " + search)
+            if search != "none":
+                ax.plot(x, [float(r["false_tilt_flat_deg"]) for r in pts], style, color=colour,
+                        alpha=0.45, label="false tilt on flat areas, " + search)
+            ax2.plot(x, [float(r["map_error"]) for r in pts], style, color=colour, lw=0.8)
+        ax.axhline(2.0, color="k", lw=0.4)
+        ax.axhline(0.5, color="k", lw=0.4, ls="--")
+        ax.set_xlabel(label)
+        ax.set_ylabel("degrees (goals: 2 over relief, 0.5 flat)")
+        ax2.set_ylabel("map error, thin lines (median log-space RMSE)")
+        ax.legend(fontsize=6, loc="upper left")
+
+
+def bar_panel(rows, ax, key, ylabel):
+    other = [r for r in rows if r["case"] in ("material", "flat", "pooled")]
+    names = []
+    for r in other:
+        name = r["case"] + " " + r["value"]
+        if name not in names:
+            names.append(name)
+    for i, name in enumerate(names):
+        for j, (search, colour, _) in enumerate(SEARCHES):
+            r = [r for r in other if r["case"] + " " + r["value"] == name and r["search"] == search][0]
+            v = float(r[key])
+            ax.bar(i * 4 + j, v if v == v else 0, color=colour)
+            if key == "map_error":
+                ax.text(i * 4 + j, v, "%.3f" % v, ha="center", va="bottom", fontsize=5, rotation=90)
+    ax.set_xticks([i * 4 + 1 for i in range(len(names))])
+    ax.set_xticklabels(names, fontsize=7, rotation=30, ha="right")
+    ax.set_ylabel(ylabel)
+
 
 def main(path, out):
     rows = list(csv.DictReader(open(path)))
-    fig, axes = plt.subplots(1, 3, figsize=(15, 4.2))
-    for ax, case, label in ((axes[0], "slope", "relief slope (deg)"), (axes[1], "noise", "noise (relative)")):
-        for normals, style in (("no", "o--"), ("yes", "s-")):
-            pts = [r for r in rows if r["case"] == case and r["normals"] == normals]
-            x = [float(r["value"]) for r in pts]
-            ax.plot(x, [float(r["normal_error_relief_deg"]) for r in pts], style, color="tab:blue",
-                    label="normal error over relief, search " + normals)
-            ax.plot(x, [float(r["false_tilt_flat_deg"]) for r in pts], style, color="tab:green",
-                    label="false tilt on flat areas, search " + normals)
-            ax2 = ax.twinx() if normals == "no" else ax2
-            ax2.plot(x, [float(r["map_error"]) for r in pts], style, color="tab:red",
-                     label="map error, search " + normals)
-        ax.axhline(2.0, color="tab:blue", lw=0.5)
-        ax.axhline(0.5, color="tab:green", lw=0.5)
-        ax.set_xlabel(label)
-        ax.set_ylabel("degrees")
-        ax2.set_ylabel("map error (median log-space RMSE)", color="tab:red")
-        ax.legend(fontsize=7, loc="upper left")
-    other = [r for r in rows if r["case"] in ("material", "fibre")]
-    names = sorted({r["case"] + " " + r["value"] for r in other})
-    ax = axes[2]
-    for i, name in enumerate(names):
-        for j, normals in enumerate(("no", "yes")):
-            r = [r for r in other if r["case"] + " " + r["value"] == name and r["normals"] == normals][0]
-            ax.bar(i * 3 + j, float(r["normal_error_relief_deg"]), color="tab:blue" if normals == "yes" else "lightsteelblue")
-            ax.text(i * 3 + j, float(r["normal_error_relief_deg"]), "map %.3f\n%.1f s" % (float(r["map_error"]), float(r["seconds"])),
-                    ha="center", va="bottom", fontsize=7)
-    ax.set_xticks([i * 3 + 0.5 for i in range(len(names))])
-    ax.set_xticklabels(names, fontsize=8)
-    ax.set_ylabel("normal error over relief (deg); light: assumed flat")
-    fig.suptitle("per-pixel normal search (independent, 128 x 128 card, 4 deg field of view, seed 20 directions)")
+    fig, axes = plt.subplots(1, 4, figsize=(20, 4.6))
+    line_panels(rows, axes)
+    bar_panel(rows, axes[2], "normal_error_relief_deg", "normal error over relief (deg)")
+    bar_panel(rows, axes[3], "map_error", "map error (grey none, orange fit, blue centre)")
+    fig.suptitle("per-pixel normal search: none / own fit / group centre (128 x 128, 4 deg field of view, seed 20 directions)")
     fig.tight_layout()
     fig.savefig(out, dpi=110)
     print("wrote " + out)

@@ -1,9 +1,12 @@
 #!/usr/bin/env bash
 # The per-pixel normal search's study (issue 19; docs/reconstruction.md, "Normals"): the built-in
 # embossed card (4 held-out materials, 128 x 128, 4 degree field of view, the seed paper's 20
-# directions), reconstructed independently with and without --normals, over relief slopes and
-# noise levels; and a glossy (brass) and a matte (white paint) card alone. Prints one CSV line per
-# run and charts normal error and map error (tools/chart_normals.py).
+# directions), reconstructed independently without the search ("none"), with the search scored by
+# each pixel's own fit ("fit", the first criterion) and by its material group's centre ("centre",
+# the default), over relief slopes and noise levels; single materials (a glossy brass, a matte
+# white paint, a dark fabric, a mirror-like chrome) with a raised border; and the card through
+# the pooled reconstruction. Prints one CSV line per run and charts normal error, false tilt and
+# map error (tools/chart_normals.py).
 # usage: tools/study_normals.sh BASIS OUT_DIR
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -11,27 +14,32 @@ basis=$1 out=$2
 mkdir -p "$out"
 acq=build/src/cli/acq
 csv=$out/normals.csv
-echo "case,value,normals,map_error,normal_error_relief_deg,false_tilt_flat_deg,seconds" > "$csv"
-run() {  # CASE VALUE ARGS...: one reconstruction with and one without the search
+echo "case,value,search,map_error,normal_error_relief_deg,false_tilt_flat_deg,refused,no_evidence,seconds" > "$csv"
+run() {  # CASE VALUE ARGS...: one reconstruction per search
   local case=$1 value=$2; shift 2
-  for normals in no yes; do
+  for search in none fit centre; do
     local flag=()
-    [ "$normals" = yes ] && flag=(--normals --normals-prior 2)
+    [ "$search" != none ] && flag=(--normals --normals-prior 2 --normals-criterion "$search")
     local start=$(date +%s%N)
     local log
     log=$($acq reconstruct synthetic --basis "$basis" --directions data/directions/seed_directions_20.tsv \
-      --size 128x128 --fov-deg 4 --method independent -o "$out/map.exr" --score --quiet "$@" "${flag[@]}" 2>&1)
+      --size 128x128 --fov-deg 4 -o "$out/map.exr" --score --quiet "$@" "${flag[@]}" 2>&1)
     local ms=$((($(date +%s%N) - start) / 1000000))
     local seconds=$((ms / 1000)).$(printf %03d $((ms % 1000)))
     local err=$(sed -n 's/^score: median per-pixel log-space RMSE against the ground truth: \([0-9.]*\).*/\1/p' <<<"$log")
     local relief=$(sed -n 's/^score: normals: median angular error \([0-9.na]*\) deg.*/\1/p' <<<"$log")
     local flat=$(sed -n 's/.*median false tilt \([0-9.na]*\) deg.*/\1/p' <<<"$log")
-    echo "$case,$value,$normals,$err,${relief:-nan},${flat:-nan},$seconds" | tee -a "$csv"
+    local refused=$(sed -n 's/^normals: [0-9]* estimated, \([0-9]*\) refused.*/\1/p' <<<"$log")
+    local none=$(sed -n 's/^normals: .* refused, \([0-9]*\) without evidence.*/\1/p' <<<"$log")
+    echo "$case,$value,$search,$err,${relief:-nan},${flat:-nan},${refused:-0},${none:-0},$seconds" | tee -a "$csv"
   done
 }
-for slope in 2 5 10 20; do run slope "$slope" --relief-deg "$slope"; done
-for noise in 0.02 0.05 0.1; do run noise "$noise" --relief-deg 10 --noise "$noise"; done
-run material brass --relief-deg 10 --materials brass
-run material white-paint --relief-deg 10 --materials white-paint
-run fibre 1 --relief-deg 10 --fibre-deg 1
+for slope in 2 5 10 20; do run slope "$slope" --method independent --relief-deg "$slope"; done
+for noise in 0.02 0.05 0.1; do run noise "$noise" --method independent --relief-deg 10 --noise "$noise"; done
+for m in brass white-paint black-fabric chrome; do
+  run material "$m" --method independent --relief-deg 10 --materials "$m"
+done
+run flat card --method independent --relief-deg 0.01
+run pooled card --relief-deg 10
+run pooled flat-card --relief-deg 0.01
 /usr/bin/python3 tools/chart_normals.py "$csv" "$out/normals.png"
