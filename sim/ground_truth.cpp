@@ -22,6 +22,10 @@ void WriteGroundTruth(const std::string& dir, const RenderScene& scene,
   labels.width = scene.card.width;
   labels.height = scene.card.height;
   labels.planes["material"].assign(scene.card.label.begin(), scene.card.label.end());
+  // The relief's true normals (sample frame, unit), where the card has relief.
+  const char* axes[3] = {"normal.x", "normal.y", "normal.z"};
+  for (int a = 0; a < 3 && !scene.card.normal.empty(); ++a)
+    for (const Eigen::Vector3f& n : scene.card.normal) labels.planes[axes[a]].push_back(n[a]);
   labels.attributes["acqFormat"] = kFormat;
   std::ostringstream size;
   size.precision(17);  // read back exactly: the label rule divides by it
@@ -53,6 +57,12 @@ GroundTruthFiles ReadGroundTruth(const std::string& dir) {
   truth.card.height = labels.height;
   truth.card.sample_size_mm = std::atof(size->second.c_str());
   for (float v : material->second) truth.card.label.push_back(std::uint8_t(std::lround(v)));
+  const auto nx = labels.planes.find("normal.x"), ny = labels.planes.find("normal.y"),
+             nz = labels.planes.find("normal.z");
+  if (nx != labels.planes.end() && ny != labels.planes.end() && nz != labels.planes.end())
+    for (std::size_t i = 0; i < nx->second.size(); ++i)
+      truth.card.normal.push_back(
+          Eigen::Vector3f(nx->second[i], ny->second[i], nz->second[i]).normalized());
   std::ifstream names(dir + "/materials.tsv");
   for (std::string line; std::getline(names, line);) {
     if (line.empty() || line[0] == '#') continue;

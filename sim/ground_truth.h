@@ -1,7 +1,8 @@
 // The simulated card's ground truth beside a session (ground_truth/), written by the simulated
 // instrument and read back to score a map of it, by acqd or by `acq session process` on a
 // finished session: the material label of every card cell (ground_truth_labels.exr, plane
-// "material", attribute sampleSizeMm), the materials' names (materials.tsv: index, name) and the
+// "material", attribute sampleSizeMm; with relief, planes "normal.x/y/z": each cell's true
+// normal in the sample frame), the materials' names (materials.tsv: index, name) and the
 // true camera model (camera.cameramodel).
 #pragma once
 
@@ -17,7 +18,7 @@ void WriteGroundTruth(const std::string& dir, const RenderScene& scene,
                       const calib::CameraModel& camera);
 
 struct GroundTruthFiles {
-  SyntheticSvbrdf card;  // its labels and size: LabelAt() is the renderer's rule
+  SyntheticSvbrdf card;  // its labels, normals and size: LabelAt(), NormalAt() the renderer's rule
   std::vector<std::string> material_names;
   calib::CameraModel camera;
 };

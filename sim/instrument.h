@@ -18,6 +18,7 @@
 #include "core/sample_kind.h"
 #include "core/session_vocabulary.h"
 #include "sim/gantry_firmware.h"
+#include "sim/relief.h"
 #include "sim/sim_gige_camera.h"
 #include "sim/usb_gantry_device.h"
 
@@ -40,6 +41,9 @@ struct InstrumentOptions {
   // white for a mono one (whose record is luminance under white light, TruthTables).
   Cfa camera_filter = Cfa::kNone;
   std::optional<Eigen::Vector3d> light_rgb;
+  // Relief on the sample (issue 19): the card embossed and its border raised (relief.h), each
+  // point rendered in its facet's frame; unset: flat. Boards, chart and Spectralon stay flat.
+  std::optional<ReliefOptions> relief;
   FirmwareOptions firmware;
   EmulatedUsbOptions usb;
   std::uint64_t seed = 1;

@@ -5,6 +5,7 @@
 #include <random>
 
 #include "core/colour.h"
+#include "core/facet_frame.h"
 #include "core/error.h"
 
 namespace acq::sim {
@@ -24,7 +25,16 @@ std::array<double, 3> Brdf(const RenderScene& scene, const Eigen::Vector2d& poin
     case RenderScene::Kind::kCard: {
       const int label = scene.card.LabelAt(point);
       if (label < 0) break;
-      return scene.materials.at(std::size_t(label)).Value(d);
+      // A tilted facet (relief): its BRDF in its own frame, times n.l / l.z, since the caller
+      // lights the sample plane (core/facet_frame.h); a light the facet turns away from, or a
+      // view it hides, gives nothing. A fit's slightly negative value is none (as the synthetic
+      // observations take it).
+      const Eigen::Matrix3d r = FacetFromSample(scene.card.NormalAt(point)).cast<double>();
+      const DirectionPair facet{(r * d.in).normalized(), (r * d.out).normalized()};
+      if (facet.in.z() <= 0 || facet.out.z() <= 0) return {0, 0, 0};
+      std::array<double, 3> f = scene.materials.at(std::size_t(label)).Value(facet);
+      for (double& v : f) v = std::max(v, 0.0) * facet.in.z() / d.in.z();
+      return f;
     }
     case RenderScene::Kind::kChessboard: {
       const double s = scene.board.spacing_mm;

@@ -13,12 +13,27 @@ Eigen::Vector2d SyntheticSvbrdf::PointOf(int pixel) const {
   return {((x + 0.5) / width - 0.5) * sample_size_mm, ((y + 0.5) / height - 0.5) * sample_size_mm};
 }
 
+namespace {
+
+// The cell a sample-plane point falls in, row-major; -1 off the card.
+long CellAt(const SyntheticSvbrdf& s, const Eigen::Vector2d& p) {
+  if (!(s.sample_size_mm > 0) || !std::isfinite(p.x()) || !std::isfinite(p.y())) return -1;
+  const double x = std::floor((p.x() / s.sample_size_mm + 0.5) * s.width);
+  const double y = std::floor((p.y() / s.sample_size_mm + 0.5) * s.height);
+  if (x < 0 || y < 0 || x >= s.width || y >= s.height) return -1;
+  return long(y) * s.width + long(x);
+}
+
+}  // namespace
+
 int SyntheticSvbrdf::LabelAt(const Eigen::Vector2d& p) const {
-  if (!(sample_size_mm > 0) || !std::isfinite(p.x()) || !std::isfinite(p.y())) return -1;
-  const double x = std::floor((p.x() / sample_size_mm + 0.5) * width);
-  const double y = std::floor((p.y() / sample_size_mm + 0.5) * height);
-  if (x < 0 || y < 0 || x >= width || y >= height) return -1;
-  return label[std::size_t(y) * std::size_t(width) + std::size_t(x)];
+  const long cell = CellAt(*this, p);
+  return cell < 0 ? -1 : label[std::size_t(cell)];
+}
+
+Eigen::Vector3f SyntheticSvbrdf::NormalAt(const Eigen::Vector2d& p) const {
+  const long cell = normal.empty() ? -1 : CellAt(*this, p);
+  return cell < 0 ? Eigen::Vector3f::UnitZ() : normal[std::size_t(cell)];
 }
 
 SyntheticSvbrdf MakeCardLayout(int width, int height, double sample_size_mm, int materials,

@@ -29,6 +29,8 @@ struct SyntheticSvbrdf {
   // The material under a sample-plane point (mm, the card centred at the origin): the label of
   // the cell it falls in, -1 off the card. The one rule the renderer and the scoring share.
   int LabelAt(const Eigen::Vector2d& point_mm) const;
+  // The true normal at that point, by the same cell rule: +z off the card or without relief.
+  Eigen::Vector3f NormalAt(const Eigen::Vector2d& point_mm) const;
 };
 
 // A printed card: a background material, two rectangles with sharp edges, and strokes of "text"

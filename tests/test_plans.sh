@@ -66,6 +66,8 @@ expect "sim without materials" 1 no_sim_materials.yaml --dry-run -- \
   "no_sim_materials.yaml:" "the sim backend needs sim.materials"
 expect "unknown sim.sample" 1 unknown_sample.yaml --dry-run -- \
   "unknown_sample.yaml:25:" "sim.sample 'tartan' is not known" "card, blend, marble or text"
+expect "relief too steep" 1 steep_relief.yaml --dry-run -- \
+  "steep_relief.yaml:25:" "sim.relief.slope_deg must be from above 0 to 60"
 expect "a mixed sample of one material" 1 sample_one_material.yaml --dry-run -- \
   "sample_one_material.yaml:25:" "mixes two materials"
 expect "unknown lens model" 1 bad_lensmodel.yaml --dry-run -- \

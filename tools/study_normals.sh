@@ -19,7 +19,7 @@ run() {  # CASE VALUE ARGS...: one reconstruction per search
   local case=$1 value=$2; shift 2
   for search in none fit centre; do
     local flag=()
-    [ "$search" != none ] && flag=(--normals --normals-prior 2 --normals-criterion "$search")
+    [ "$search" != none ] && flag=(--normals --normals-criterion "$search")
     local start=$(date +%s%N)
     local log
     log=$($acq reconstruct synthetic --basis "$basis" --directions data/directions/seed_directions_20.tsv \

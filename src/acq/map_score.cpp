@@ -3,13 +3,17 @@
 #include <Eigen/Core>
 
 #include <cmath>
+#include <limits>
 
 #include "acq/map_render.h"
 #include "brdf/basis_rows.h"
 #include "brdf/evaluation.h"
 #include "brdf/fov_evaluation.h"
+#include "brdf/normal_search.h"
+#include "core/angles.h"
 #include "core/colour.h"
 #include "core/error.h"
+#include "core/facet_frame.h"
 
 namespace acq {
 DirectionPair DiffuseColourDirections() {
@@ -71,6 +75,36 @@ MapScore ScoreMap(const SvbrdfMap& map, const BasisView& basis, const std::vecto
   score.albedo_delta_e2000_median = albedo_delta_e.empty() ? 0 : Median(albedo_delta_e);
   score.median_log_rmse = all.empty() ? 0 : Median(all);
   score.median_log_rmse_valid = valid.empty() ? 0 : Median(valid);
+  return score;
+}
+
+NormalScore ScoreNormals(const SvbrdfMap& map, const std::vector<Eigen::Vector3f>& truth) {
+  const int w = map.info.width, h = map.info.height;
+  if (truth.size() != std::size_t(w) * std::size_t(h))
+    throw UserError("normal score", "the truth has " + std::to_string(truth.size()) +
+                                        " normals for a map of " + std::to_string(w) + " x " +
+                                        std::to_string(h) + " pixels");
+  std::vector<double> relief, assumed, flat;
+  NormalScore score;
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const Eigen::Vector3f& t = truth[std::size_t(y) * w + x];
+      const Eigen::Vector3f got(map.Plane("normal.x", x, y), map.Plane("normal.y", x, y),
+                                map.Plane("normal.z", x, y));
+      const float status = map.Plane("normal_status", x, y);
+      score.refused += status == float(NormalStatus::kRefused);
+      score.no_evidence += status == float(NormalStatus::kNoEvidence);
+      const double tilt = NormalAngle(t, Eigen::Vector3f::UnitZ());
+      const double error = RadToDeg(NormalAngle(t, got.normalized()));
+      if (tilt > DegToRad(0.5)) relief.push_back(error), assumed.push_back(RadToDeg(tilt));
+      if (tilt < DegToRad(0.05)) flat.push_back(error);
+    }
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  score.median_error_deg_relief = relief.empty() ? nan : Median(relief);
+  score.median_error_deg_relief_assumed_flat = assumed.empty() ? nan : Median(assumed);
+  score.median_tilt_deg_flat = flat.empty() ? nan : Median(flat);
+  score.relief_pixels = long(relief.size());
+  score.flat_pixels = long(flat.size());
   return score;
 }
 

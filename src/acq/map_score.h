@@ -27,6 +27,17 @@ struct MapScore {
   double albedo_delta_e2000_median = 0;
 };
 
+// The map's normals against the true ones (issue 19): the median angular error over the relief
+// (pixels whose true tilt is over 0.5 degree), beside the same for the sample's normal assumed,
+// and the median false tilt on flat areas (true tilt under 0.05 degree); NaN where none.
+struct NormalScore {
+  double median_error_deg_relief = 0, median_error_deg_relief_assumed_flat = 0;
+  double median_tilt_deg_flat = 0;
+  long relief_pixels = 0, flat_pixels = 0, refused = 0, no_evidence = 0;
+};
+// `truth[pixel]`: the true normal (sample frame, unit) of each map pixel, row-major.
+NormalScore ScoreNormals(const SvbrdfMap& map, const std::vector<Eigen::Vector3f>& truth);
+
 // Where the diffuse colour is read: light 45 degrees from the normal, camera along it, away
 // from the specular lobe (the half vector 22.5 degrees off the normal).
 DirectionPair DiffuseColourDirections();

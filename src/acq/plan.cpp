@@ -463,7 +463,8 @@ SimSpec ReadSim(const YAML::Node& root, const Section& top, const std::string& b
                 Backend backend) {
   const Section sim =
       top.Child("sim", {"materials", "seed", "light_intensity", "time_scale", "operator",
-                        "image_size", "camera_model", "camera_filter", "light_rgb", "sample"});
+                        "image_size", "camera_model", "camera_filter", "light_rgb", "sample",
+                        "relief"});
   SimSpec s;
   if (backend == Backend::kSim) s.materials = ReadSimMaterials(root, sim, base);
   if (sim.Has("sample")) {
@@ -514,13 +515,27 @@ SimSpec ReadSim(const YAML::Node& root, const Section& top, const std::string& b
                       "each Rec. 709 channel's share of the light, like [1, 0.72, 0.42]");
     s.light_rgb = Eigen::Vector3d(rgb[0], rgb[1], rgb[2]);
   }
+  if (sim.Has("relief")) {
+    const Section relief = sim.Child("relief", {"slope_deg", "fibre_deg"});
+    SimSpec::Relief r;
+    r.slope_deg = relief.Number("slope_deg", r.slope_deg);
+    r.fibre_deg = relief.Number("fibre_deg", r.fibre_deg);
+    if (!(r.slope_deg > 0 && r.slope_deg < 60))
+      throw UserError(relief.Where("slope_deg"), "sim.relief.slope_deg must be from above 0 to 60",
+                      "the steepest slope of the embossed edges, in degrees, like 10");
+    if (!(r.fibre_deg >= 0 && r.fibre_deg < 30))
+      throw UserError(relief.Where("fibre_deg"), "sim.relief.fibre_deg must be from 0 to 30",
+                      "the paper fibre's RMS slope in degrees; 0: none");
+    s.relief = r;
+  }
   sim.Checked([&] { s.Check(); });
   return s;
 }
 
 ReconstructionSpec ReadReconstruction(const Section& top, const std::string& base) {
   const Section recon =
-      top.Child("reconstruction", {"basis", "k", "eta", "lookup", "row_tile", "method", "groups"});
+      top.Child("reconstruction",
+                {"basis", "k", "eta", "lookup", "row_tile", "method", "groups", "normals"});
   ReconstructionSpec r;
   r.basis_file = Resolve(base, recon.Required("basis"));
   RequireFile(recon, "basis", r.basis_file, "build one with `acq basis build` (README)");
@@ -542,6 +557,7 @@ ReconstructionSpec ReadReconstruction(const Section& top, const std::string& bas
     throw UserError(recon.Where("method"), "reconstruction.method '" + method + "' is not known",
                     "use independent or pooled");
   r.groups = int(recon.Integer("groups", r.groups, 0, 1024));
+  r.normals = recon.Flag("normals", r.normals);
   recon.Checked([&] { r.Check(); });
   return r;
 }

@@ -89,6 +89,13 @@ struct SimSpec {  // sim:
   // colour camera, white for a mono one (sim/instrument.h).
   std::optional<Cfa> camera_filter;
   std::optional<Eigen::Vector3d> light_rgb;
+  // sim.relief: {slope_deg: S, fibre_deg: F}: the card embossed where it is printed and raised at
+  // its border, edges of steepest slope S degrees, with paper-fibre noise of RMS slope F
+  // (sim/relief.h, issue 19); unset: flat.
+  struct Relief {
+    double slope_deg = 10, fibre_deg = 0;
+  };
+  std::optional<Relief> relief;
   void Check() const;
 };
 
@@ -101,6 +108,7 @@ struct ReconstructionSpec {  // reconstruction:
   int row_tile = 1;  // PixelSolveOptions::row_tile
   ReconstructionMethod method = kDefaultReconstructionMethod;
   int groups = 0;  // PooledOptions::groups (0: chosen by held-out views)
+  bool normals = false;  // reconstruction.normals: each pixel's normal estimated (normal_search.h)
   void Check() const;
 };
 

@@ -165,6 +165,8 @@ std::vector<PlanSetting> PlanSettings(const Plan& plan) {
     if (filter != Cfa::kNone) s.Capture("sim.camera_filter", CfaName(filter));
     if (const auto& rgb = plan.sim.light_rgb)
       s.Capture("sim.light_rgb", Numbers({rgb->x(), rgb->y(), rgb->z()}));
+    if (const auto& relief = plan.sim.relief)
+      s.Capture("sim.relief", Numbers({relief->slope_deg, relief->fibre_deg}));
   }
   // Processing only: the frames stay what they are.
   // The colour matrix is applied to the HDR images when processing (a camera characterised
@@ -184,6 +186,8 @@ std::vector<PlanSetting> PlanSettings(const Plan& plan) {
   s.Processing("reconstruction.row_tile", std::to_string(plan.reconstruction.row_tile));
   s.Processing("reconstruction.method", ReconstructionMethodName(plan.reconstruction.method));
   s.Processing("reconstruction.groups", std::to_string(plan.reconstruction.groups));
+  // Recorded when on, so that the sessions recorded before it existed compare unchanged.
+  if (plan.reconstruction.normals) s.Processing("reconstruction.normals", "true");
   return s.out;
 }
 

@@ -52,7 +52,7 @@ struct NormalSearchOptions {
   int components = 8;        // k of the search's solves (fewer than the views: identifiable)
   NormalCriterion criterion = NormalCriterion::kCentre;  // docs/reconstruction.md, "Normals"
   double eta = kDefaultEta;
-  double prior = 0.05;  // weight of tan^2(tilt) against the RMS log-space residual
+  double prior = 0.05;  // weight of tan^2(tilt) against the RMS log-space misfit
   int levels = 6;       // refinements after the coarse grid (the last step: cone / 128)
   // A view or light at or below this cosine to a candidate facet is not used. 0: only those
   // behind it; anything more drops the grazing views the flat solve uses (the seed paper's set

@@ -111,31 +111,15 @@ void AddRelief(const Args& args, sim::SyntheticSvbrdf* layout) {
   sim::SetNormalsFromHeight(layout, height);
 }
 
-// The recovered normals against the scene's: the median angular error over the relief (true
-// tilt over 0.5 degree) and the median false tilt on flat areas (true tilt under 0.05 degree).
+// The recovered normals against the scene's (acq/map_score.h).
 void PrintNormalScore(const SvbrdfMap& map, const sim::SyntheticSvbrdf& scene) {
-  std::vector<double> relief, flat;
-  long refused = 0;
-  for (int y = 0; y < scene.height; ++y)
-    for (int x = 0; x < scene.width; ++x) {
-      const Eigen::Vector3f truth = scene.normal[std::size_t(y) * scene.width + x];
-      const Eigen::Vector3f got(map.Plane("normal.x", x, y), map.Plane("normal.y", x, y),
-                                map.Plane("normal.z", x, y));
-      refused += map.Plane("normal_status", x, y) == float(NormalStatus::kRefused);
-      const double tilt = NormalAngle(truth, Eigen::Vector3f::UnitZ());
-      const double error = RadToDeg(NormalAngle(truth, got.normalized()));
-      if (tilt > DegToRad(0.5)) relief.push_back(error);
-      if (tilt < DegToRad(0.05)) flat.push_back(error);
-    }
-  auto median = [](std::vector<double> v) {
-    if (v.empty()) return std::numeric_limits<double>::quiet_NaN();
-    std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
-    return v[v.size() / 2];
-  };
+  const NormalScore n = ScoreNormals(map, scene.normal);
   std::printf(
-      "score: normals: median angular error %.3f deg over the relief (%zu pixels), median "
-      "false tilt %.3f deg on flat areas (%zu pixels), %ld refused\n",
-      median(relief), relief.size(), median(flat), flat.size(), refused);
+      "score: normals: median angular error %.3f deg over the relief (%ld pixels; %.3f assumed "
+      "flat), median false tilt %.3f deg on flat areas (%ld pixels), %ld refused, %ld without "
+      "evidence\n",
+      n.median_error_deg_relief, n.relief_pixels, n.median_error_deg_relief_assumed_flat,
+      n.median_tilt_deg_flat, n.flat_pixels, n.refused, n.no_evidence);
 }
 
 int ReconstructSynthetic(const Argv& argv) {

@@ -57,6 +57,13 @@ sim::InstrumentOptions InstrumentOptionsOf(const Plan& plan) {
   o.image_height = plan.sim.image_height;
   o.camera_filter = plan.sim.camera_filter.value_or(CfaOf(plan.camera.settings.pixel_format));
   o.light_rgb = plan.sim.light_rgb;
+  if (plan.sim.relief) {
+    sim::ReliefOptions relief;
+    relief.slope_deg = plan.sim.relief->slope_deg;
+    relief.fibre_deg = plan.sim.relief->fibre_deg;
+    relief.seed = plan.sim.seed;
+    o.relief = relief;
+  }
   o.firmware.axis = plan.gantry.motion.theta;
   o.firmware.settle_s = plan.gantry.motion.settle_s;
   o.firmware.limits = plan.gantry.motion.constraints;

@@ -163,6 +163,7 @@ ReconstructionReport ReconstructMap(const Plan& plan, const MappedBasis& mapped,
   options.solve.row_tile = plan.reconstruction.row_tile;
   options.method = plan.reconstruction.method;
   options.pooled.groups = plan.reconstruction.groups;
+  options.normals.enabled = plan.reconstruction.normals;
   options.progress = false;
   SvbrdfMapInfo info;
   info.basis = plan.reconstruction.basis_file;

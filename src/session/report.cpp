@@ -165,6 +165,17 @@ std::string SessionReport::Json() const {
                          {"board_eye_error_max_deg", board_eye_error_max_deg},
                          {"material_median_log_rmse", score.material_median_log_rmse},
                          {"material_homogeneous_log_rmse", homogeneous_log_rmse}};
+  if (normals) {
+    const auto finite = [](double v) { return std::isfinite(v) ? Json(v) : Json(nullptr); };
+    j["normals"] = {{"median_error_deg_relief", finite(normals->median_error_deg_relief)},
+                    {"median_error_deg_relief_assumed_flat",
+                     finite(normals->median_error_deg_relief_assumed_flat)},
+                    {"median_tilt_deg_flat", finite(normals->median_tilt_deg_flat)},
+                    {"relief_pixels", normals->relief_pixels},
+                    {"flat_pixels", normals->flat_pixels},
+                    {"refused", normals->refused},
+                    {"no_evidence", normals->no_evidence}};
+  }
   if (scored) {
     j["ground_truth"]["validation"] = Json::array();
     for (const ValidationTruth& v : validation_truth)
@@ -313,6 +324,14 @@ std::string TruthText(const SessionReport& s) {
                 s.alignment_median_px, s.alignment_max_px, s.board_eye_error_median_deg,
                 s.board_eye_error_max_deg);
   t << line;
+  if (const auto& n = s.normals) {
+    std::snprintf(line, sizeof line,
+                  "  normals against the relief: median error %.2f deg over it (%.2f assumed "
+                  "flat), false tilt %.2f deg on flat areas; %ld refused, %ld without evidence\n",
+                  n->median_error_deg_relief, n->median_error_deg_relief_assumed_flat,
+                  n->median_tilt_deg_flat, n->refused, n->no_evidence);
+    t << line;
+  }
   for (const SessionReport::ValidationTruth& v : s.validation_truth) {
     std::snprintf(line, sizeof line,
                   "  validation %s: the truth against the capture: relative RMS %.3f, median "

@@ -7,6 +7,7 @@
 // visiting order, writing frames and the catalog, publishing status).
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -63,6 +64,8 @@ struct SessionReport {
     double map_delta_e2000 = 0, map_relative_rms = 0;          // map vs truth
   };
   std::vector<ValidationTruth> validation_truth;
+  // The map's normals against the relief's (a simulated sample with relief only).
+  std::optional<NormalScore> normals;
 
   double OverheadS() const;
   std::string Json() const;
