@@ -20,6 +20,7 @@
 #include "hw/replay_camera.h"
 #include "io/float_planes_exr.h"
 #include "sim/ground_truth.h"
+#include "sim/relief.h"
 #include "sim/sim_gige_camera.h"
 #include "sim_gantry_link.h"
 #include "test_helpers.h"
@@ -374,4 +375,20 @@ TEST_CASE("sim camera: renders from where the simulated gantry holds the arms; a
   CHECK(labels.Plane("material", "labels") ==
         std::vector<float>(card.card.label.begin(), card.card.label.end()));
   CHECK(calib::CameraModel::Read(tmp / "ground_truth/camera.cameramodel").width() == 320);
+  CHECK(sim::ReadGroundTruth(tmp / "ground_truth").card.normal.empty());  // flat: no normals
+
+  // With relief, its true normals go with the labels and come back as written.
+  sim::ReliefOptions relief;
+  relief.slope_deg = 15;
+  sim::SetNormalsFromHeight(&card.card, sim::CardRelief(card.card, relief));
+  sim::WriteGroundTruth(tmp / "relief", card, SmallCamera());
+  const sim::GroundTruthFiles back = sim::ReadGroundTruth(tmp / "relief");
+  REQUIRE(back.card.normal.size() == card.card.normal.size());
+  int tilted = 0;
+  for (std::size_t i = 0; i < back.card.normal.size(); ++i) {
+    CHECK((back.card.normal[i] - card.card.normal[i]).norm() < 1e-6);  // float planes, unit
+    tilted += card.card.normal[i].z() < 0.999f;
+  }
+  CHECK(tilted > 0);
+  CHECK(back.card.NormalAt({0, 0}) == back.card.normal[std::size_t(4 * 16 + 8)]);
 }
