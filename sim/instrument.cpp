@@ -61,7 +61,8 @@ Instrument::Instrument(const InstrumentOptions& options) : options_(options) {
   const MixedSample sample = InstrumentSample(options_.sample, options_.sample_size_mm,
                                               int(networks_.size()), options_.seed);
   scene_.card = sample.layout;
-  if (options_.relief) SetNormalsFromHeight(&scene_.card, CardRelief(scene_.card, *options_.relief));
+  if (options_.relief)
+    SetNormalsFromHeight(&scene_.card, CardRelief(scene_.card, *options_.relief));
   std::vector<std::string> names;
   for (std::size_t i = 0; i < networks_.size(); ++i) {
     base_truths_.push_back({&networks_[i], nullptr});

@@ -5,8 +5,8 @@
 #include <random>
 
 #include "core/colour.h"
-#include "core/facet_frame.h"
 #include "core/error.h"
+#include "core/facet_frame.h"
 
 namespace acq::sim {
 namespace {

@@ -898,7 +898,8 @@ TEST_CASE("the simulated camera renders a tilted facet as the synthetic observat
       const std::array<double, 3> radiance = sim::RadianceAt(render, point, eye, light);
       const Eigen::Vector3d to_light = light.position_mm - Eigen::Vector3d(point.x(), point.y(), 0);
       // The radiance over the irradiance of the sample plane: the BRDF measured as if flat.
-      const double irradiance = light.intensity * to_light.normalized().z() / to_light.squaredNorm();
+      const double irradiance =
+          light.intensity * to_light.normalized().z() / to_light.squaredNorm();
       const float* measured = &obs.rgb[3 * obs.At(p, v)];
       if (std::isnan(measured[0])) {  // the facet hides the view or shadows the light
         CHECK(radiance[0] == 0);

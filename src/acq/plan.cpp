@@ -461,10 +461,9 @@ std::vector<std::string> ReadSimMaterials(const YAML::Node& root, const Section&
 
 SimSpec ReadSim(const YAML::Node& root, const Section& top, const std::string& base,
                 Backend backend) {
-  const Section sim =
-      top.Child("sim", {"materials", "seed", "light_intensity", "time_scale", "operator",
-                        "image_size", "camera_model", "camera_filter", "light_rgb", "sample",
-                        "relief"});
+  const Section sim = top.Child(
+      "sim", {"materials", "seed", "light_intensity", "time_scale", "operator", "image_size",
+              "camera_model", "camera_filter", "light_rgb", "sample", "relief"});
   SimSpec s;
   if (backend == Backend::kSim) s.materials = ReadSimMaterials(root, sim, base);
   if (sim.Has("sample")) {
@@ -533,9 +532,8 @@ SimSpec ReadSim(const YAML::Node& root, const Section& top, const std::string& b
 }
 
 ReconstructionSpec ReadReconstruction(const Section& top, const std::string& base) {
-  const Section recon =
-      top.Child("reconstruction",
-                {"basis", "k", "eta", "lookup", "row_tile", "method", "groups", "normals"});
+  const Section recon = top.Child(
+      "reconstruction", {"basis", "k", "eta", "lookup", "row_tile", "method", "groups", "normals"});
   ReconstructionSpec r;
   r.basis_file = Resolve(base, recon.Required("basis"));
   RequireFile(recon, "basis", r.basis_file, "build one with `acq basis build` (README)");

@@ -23,8 +23,8 @@ namespace {
 // mono camera), and the true material's label at each map pixel.
 struct TruthAtPixels {
   std::vector<MerlBrdf> materials;
-  std::vector<int> labels;                // per map pixel, -1 off the card
-  std::vector<Eigen::Vector3f> normals;   // per map pixel; empty without relief
+  std::vector<int> labels;               // per map pixel, -1 off the card
+  std::vector<Eigen::Vector3f> normals;  // per map pixel; empty without relief
 };
 TruthAtPixels TruthOfMap(const Plan& plan, const sim::GroundTruthFiles& truth_files,
                          const ProcessReport& process) {
@@ -35,10 +35,10 @@ TruthAtPixels TruthOfMap(const Plan& plan, const sim::GroundTruthFiles& truth_fi
   // Where each map pixel lies on the sample: computed here, for scoring only (2 s of mrcal's
   // unprojection at 2048 x 2048, not the processing's to spend).
   for (const Eigen::Vector3d& p :
-       calib::SamplePoints(ReferenceViewOf(plan, process.calibration.camera)))
-  {
+       calib::SamplePoints(ReferenceViewOf(plan, process.calibration.camera))) {
     t.labels.push_back(truth_files.card.LabelAt(p.head<2>()));
-    if (!truth_files.card.normal.empty()) t.normals.push_back(truth_files.card.NormalAt(p.head<2>()));
+    if (!truth_files.card.normal.empty())
+      t.normals.push_back(truth_files.card.NormalAt(p.head<2>()));
   }
   return t;
 }
