@@ -87,7 +87,7 @@ std::vector<std::vector<int>> NearestGroups(const BasisView& basis, const PixelO
   for (int p = 0; p < count; ++p)
     ToFacetFrame(Eigen::Vector3f::UnitZ(), -1, obs, first + p, &chunk, p);  // a copy
   PixelSolveOptions flat = solve;
-  flat.components = model.components;
+  flat.components = solve.components;  // the solve the model's groups were clustered from
   flat.row_tile = 1;
   flat.residual = ResidualKind::kFit;
   PixelSolution solution;
@@ -95,20 +95,10 @@ std::vector<std::vector<int>> NearestGroups(const BasisView& basis, const PixelO
   SolvePixels(basis, chunk, flat, &solution);
   std::vector<std::vector<int>> nearest(count);
   std::vector<double> feature(3 * model.features);
-  std::vector<std::pair<double, int>> by_distance;
   for (int p = 0; p < count; ++p) {
     model.Feature(&solution.coefficients[std::size_t(p) * 3 * flat.components], flat.components,
                   feature.data());
-    by_distance.clear();
-    for (std::size_t g = 0; g < model.groups.size(); ++g) {
-      double d = 0;
-      for (std::size_t i = 0; i < feature.size(); ++i)
-        d += std::pow(feature[i] - model.groups[g].feature[i], 2);
-      by_distance.push_back({d, int(g)});
-    }
-    const int m = std::min<int>(kCentreGroups, int(by_distance.size()));
-    std::partial_sort(by_distance.begin(), by_distance.begin() + m, by_distance.end());
-    for (int i = 0; i < m; ++i) nearest[p].push_back(by_distance[i].second);
+    nearest[p] = model.NearestGroups(feature, kCentreGroups);
   }
   return nearest;
 }

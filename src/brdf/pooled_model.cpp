@@ -49,6 +49,23 @@ double PooledModel::Distance(const float* a, int ka, const float* b, int kb) con
   return std::sqrt(sum / 3);
 }
 
+std::vector<int> PooledModel::NearestGroups(const std::vector<double>& feature, int m) const {
+  std::vector<std::pair<double, int>> by_distance;
+  for (std::size_t g = 0; g < groups.size(); ++g) {
+    double d = 0;
+    for (std::size_t i = 0; i < feature.size(); ++i) {
+      const double e = feature[i] - groups[g].feature[i];
+      d += e * e;
+    }
+    by_distance.push_back({d, int(g)});
+  }
+  m = std::min(m, int(by_distance.size()));
+  std::partial_sort(by_distance.begin(), by_distance.begin() + m, by_distance.end());
+  std::vector<int> nearest;
+  for (int i = 0; i < m; ++i) nearest.push_back(by_distance[i].second);
+  return nearest;
+}
+
 std::string PooledModel::Summary() const {
   std::ostringstream s;
   s.precision(4);

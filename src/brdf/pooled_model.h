@@ -75,6 +75,8 @@ struct PooledModel {
   int sample_pixels = 0;                // usable pixels of the sample
   // A feature vector of per-channel coefficients (3 x k, R then G then B).
   void Feature(const float* coefficients, int k, double* feature) const;
+  // The (at most) m groups whose centroids are nearest a feature vector, nearest first.
+  std::vector<int> NearestGroups(const std::vector<double>& feature, int m) const;
 
   // The RMS log-space difference over the grid between two coefficient sets (3 x a, 3 x b).
   double Distance(const float* a, int ka, const float* b, int kb) const;

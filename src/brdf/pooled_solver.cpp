@@ -51,7 +51,6 @@ struct PooledPixel {
   RidgeFit alone, pooled;
   std::vector<float> coefficients;
   std::vector<double> feature;
-  std::vector<std::pair<double, int>> near;  // (feature distance, group)
   Eigen::MatrixXd candidate;
 
   void Solve(const BasisView& basis, const PixelObservations& obs, int p, const PooledModel& model,
@@ -141,21 +140,10 @@ struct PooledPixel {
     if (groups == 0) return -1;
     feature.resize(3 * model.features);
     model.Feature(coefficients.data(), model.components, feature.data());
-    near.clear();
-    for (int g = 0; g < groups; ++g) {
-      double d = 0;
-      for (std::size_t i = 0; i < feature.size(); ++i) {
-        const double e = feature[i] - model.groups[g].feature[i];
-        d += e * e;
-      }
-      near.push_back({d, g});
-    }
-    const int m = std::min(kCandidateGroups, groups);
-    std::partial_sort(near.begin(), near.begin() + m, near.end());
-    int best = near[0].second;
+    const std::vector<int> near = model.NearestGroups(feature, kCandidateGroups);
+    int best = near[0];
     double best_misfit = std::numeric_limits<double>::infinity();
-    for (int i = 0; i < m; ++i) {
-      const int g = near[i].second;
+    for (int g : near) {
       candidate = yn - qn * centres.coefficients[g];
       const double misfit = candidate.squaredNorm();
       if (misfit < best_misfit) best_misfit = misfit, best = g, y_centre.swap(candidate);
