@@ -66,6 +66,17 @@ void ScoreCandidates(const BasisView& basis, const PixelObservations& obs, int f
   }
 }
 
+// Pixels [first, first + count) of `obs`, copied (to solve apart, or to turn them in place).
+PixelObservations CopyPixels(const PixelObservations& obs, int first, int count) {
+  PixelObservations out;
+  out.Resize(count, obs.views);
+  const std::size_t from = obs.At(first, 0), to = obs.At(first + count, 0);
+  std::copy(obs.light.begin() + from, obs.light.begin() + to, out.light.begin());
+  std::copy(obs.camera.begin() + from, obs.camera.begin() + to, out.camera.begin());
+  std::copy(obs.rgb.begin() + 3 * from, obs.rgb.begin() + 3 * to, out.rgb.begin());
+  return out;
+}
+
 // The information criterion of NormalSearchOptions::evidence: does the best candidate's misfit
 // (RMS over 3 x views residuals) improve on the sample's normal's by enough for two parameters?
 bool TiltEarnsItsKeep(const Candidate& flat, const Candidate& best, double evidence) {
@@ -82,12 +93,9 @@ constexpr int kCentreGroups = 3;
 std::vector<std::vector<int>> NearestGroups(const BasisView& basis, const PixelObservations& obs,
                                             int first, int count, const PooledModel& model,
                                             const PixelSolveOptions& solve) {
-  PixelObservations chunk;
-  chunk.Resize(count, obs.views);
-  for (int p = 0; p < count; ++p)
-    ToFacetFrame(Eigen::Vector3f::UnitZ(), -1, obs, first + p, &chunk, p);  // a copy
+  // The pixels solved as the model's own were when it was clustered: the map's k, alone.
+  const PixelObservations chunk = CopyPixels(obs, first, count);
   PixelSolveOptions flat = solve;
-  flat.components = solve.components;  // the solve the model's groups were clustered from
   flat.row_tile = 1;
   flat.residual = ResidualKind::kFit;
   PixelSolution solution;
@@ -285,19 +293,6 @@ ChunkSearch SearchChunk(const BasisView& basis, const PixelObservations& obs, in
   return c;
 }
 
-// The pixel's own observations, copied (to turn them in place).
-PixelObservations OnePixel(const PixelObservations& obs, int pixel) {
-  PixelObservations one;
-  one.Resize(1, obs.views);
-  for (int v = 0; v < obs.views; ++v) {
-    const std::size_t i = obs.At(pixel, v);
-    one.light[v] = obs.light[i];
-    one.camera[v] = obs.camera[i];
-    for (int ch = 0; ch < 3; ++ch) one.rgb[3 * v + ch] = obs.rgb[3 * i + ch];
-  }
-  return one;
-}
-
 }  // namespace
 
 PooledModel FitNormalReference(const BasisView& basis, const PixelObservations& sample,
@@ -339,8 +334,8 @@ PixelNormals EstimateNormals(const BasisView& basis, PixelObservations* obs,
       const Eigen::Vector3f n = NormalOfSlope(best.slope.x(), best.slope.y());
       out.normal[first + p] = n;
       out.status[first + p] = NormalStatus::kEstimated;
-      ToFacetFrame(n, std::max(o.min_cos, o.estimated_min_cos), OnePixel(*obs, first + p), 0, obs,
-                   first + p);
+      ToFacetFrame(n, std::max(o.min_cos, o.estimated_min_cos), CopyPixels(*obs, first + p, 1), 0,
+                   obs, first + p);
     }
   }
   return out;
