@@ -25,14 +25,21 @@ std::array<double, 3> Brdf(const RenderScene& scene, const Eigen::Vector2d& poin
     case RenderScene::Kind::kCard: {
       const int label = scene.card.LabelAt(point);
       if (label < 0) break;
+      // A fit's slightly negative value is none (as the synthetic observations take it).
+      const GroundTruth& material = scene.materials.at(std::size_t(label));
+      std::array<double, 3> f;
+      if (scene.card.normal.empty()) {  // flat: no turn per point on the renderer's hot path
+        f = material.Value(d);
+        for (double& v : f) v = std::max(v, 0.0);
+        return f;
+      }
       // A tilted facet (relief): its BRDF in its own frame, times n.l / l.z, since the caller
       // lights the sample plane (core/facet_frame.h); a light the facet turns away from, or a
-      // view it hides, gives nothing. A fit's slightly negative value is none (as the synthetic
-      // observations take it).
+      // view it hides, gives nothing.
       const Eigen::Matrix3d r = FacetFromSample(scene.card.NormalAt(point)).cast<double>();
       const DirectionPair facet{(r * d.in).normalized(), (r * d.out).normalized()};
       if (facet.in.z() <= 0 || facet.out.z() <= 0) return {0, 0, 0};
-      std::array<double, 3> f = scene.materials.at(std::size_t(label)).Value(facet);
+      f = material.Value(facet);
       for (double& v : f) v = std::max(v, 0.0) * facet.in.z() / d.in.z();
       return f;
     }

@@ -86,11 +86,6 @@ struct PixelNormals {
   void Resize(int pixels);  // flat, kAssumed
 };
 
-// Chooses every pixel's normal and rewrites `observations` into its facet's frame (pixels
-// refused or assumed keep theirs). `solve` supplies the lookup and the minimum of views. Each
-// candidate is scored by an independent solve of options.components (scoring by the pooled
-// solve, the group's prior, was tried: 16k pixels took 72 s and no candidate came out valid;
-// not pursued yet: docs/reconstruction.md, "Normals").
 // What criterion kCentre judges a normal by: the material groups (pooled_model.h) fitted on a
 // sample of the image's pixels taken as flat, each centre's ridge chosen by its held-out views
 // from eta x 1, 1/4, ..., 1/256 (PooledOptions::centre_eta_fractions). A centre regularised as
@@ -101,6 +96,9 @@ PooledModel FitNormalReference(const BasisView& basis, const PixelObservations& 
                                const PixelSolveOptions& solve, const NormalSearchOptions& options,
                                const PooledOptions& pooled);
 
+// Chooses every pixel's normal and rewrites `observations` into its facet's frame (pixels
+// refused, assumed or without evidence keep theirs), each candidate scored by
+// options.criterion. `solve` supplies the lookup and the minimum of views.
 // NormalCriterion::kCentre needs a reference with groups; without one such a search leaves
 // every normal assumed.
 PixelNormals EstimateNormals(const BasisView& basis, PixelObservations* observations,

@@ -46,12 +46,11 @@ TruthAtPixels TruthOfMap(const Plan& plan, const sim::GroundTruthFiles& truth_fi
 // The map against the card's true materials, and the homogeneous result for the same materials
 // at the same directions.
 void ScoreMapAgainstTruth(const Plan& plan, const std::string& dir, const SvbrdfMap& map,
-                          const TruthAtPixels& truth_at, const sim::GroundTruthFiles& truth_files,
-                          SessionReport* report) {
-  const MappedBasis mapped = MappedBasis::Open(plan.reconstruction.basis_file);
+                          const BasisView& basis, const TruthAtPixels& truth_at,
+                          const sim::GroundTruthFiles& truth_files, SessionReport* report) {
   const std::vector<MerlBrdf>& truth = truth_at.materials;
   const std::vector<int>& labels = truth_at.labels;
-  report->score = ScoreMap(map, mapped.View(), labels, truth);
+  report->score = ScoreMap(map, basis, labels, truth);
   FloatPlanes error;  // per pixel, for a look at where the map is wrong
   error.width = report->process.reference_width;
   error.height = report->process.reference_height;
@@ -67,7 +66,7 @@ void ScoreMapAgainstTruth(const Plan& plan, const std::string& dir, const Svbrdf
   for (const MerlBrdf& m : truth) {
     double sum = 0;
     for (const ChannelError& e : EvaluateHomogeneous(
-             mapped.View(), m, bins,
+             basis, m, bins,
              RidgeOptions{plan.reconstruction.components, plan.reconstruction.eta})) {
       homogeneous.push_back(e.log_rmse);
       sum += e.log_rmse / 3;
@@ -84,8 +83,8 @@ void ScoreMapAgainstTruth(const Plan& plan, const std::string& dir, const Svbrdf
 // against that truth: how much of the validation figure is the capture's own noise, which no
 // model can remove, and how far the map is from the truth without it.
 void ScoreValidationAgainstTruth(const Plan& plan, const std::string& dir, const SvbrdfMap& map,
-                                 const TruthAtPixels& truth_at, SessionReport* report) {
-  const MappedBasis mapped = MappedBasis::Open(plan.reconstruction.basis_file);
+                                 const BasisView& basis, const TruthAtPixels& truth_at,
+                                 SessionReport* report) {
   const PixelBrdf truth = [&truth_at, w = map.info.width](int x, int y, const Eigen::Vector3d& in,
                                                           const Eigen::Vector3d& out) {
     const int label = truth_at.labels[std::size_t(y) * w + x];
@@ -102,7 +101,7 @@ void ScoreValidationAgainstTruth(const Plan& plan, const std::string& dir, const
     ValidationData true_view = captured;  // the truth's render in the capture's place
     true_view.captured = floor.predicted.rgb;
     const ValidationResult map_error =
-        Compare(true_view, MapPixelBrdf(map, mapped.View(), plan.reconstruction.lookup));
+        Compare(true_view, MapPixelBrdf(map, basis, plan.reconstruction.lookup));
     report->validation_truth.push_back({v.name, floor.median_delta_e2000, floor.relative_rms,
                                         map_error.median_delta_e2000, map_error.relative_rms});
   }
@@ -151,8 +150,9 @@ void ScoreAgainstGroundTruth(const Plan& plan, const std::string& session_dir,
   const sim::GroundTruthFiles truth = sim::ReadGroundTruth(session_dir + "/ground_truth");
   const SvbrdfMap map = ReadSvbrdfMap(session_dir + "/svbrdf.exr");
   const TruthAtPixels truth_at = TruthOfMap(plan, truth, report->process);
-  ScoreMapAgainstTruth(plan, session_dir, map, truth_at, truth, report);
-  ScoreValidationAgainstTruth(plan, session_dir, map, truth_at, report);
+  const MappedBasis mapped = MappedBasis::Open(plan.reconstruction.basis_file);
+  ScoreMapAgainstTruth(plan, session_dir, map, mapped.View(), truth_at, truth, report);
+  ScoreValidationAgainstTruth(plan, session_dir, map, mapped.View(), truth_at, report);
   if (!truth_at.normals.empty()) report->normals = ScoreNormals(map, truth_at.normals);
   ScoreCalibration(plan, truth.camera, report);
 }
