@@ -78,14 +78,37 @@ MapScore ScoreMap(const SvbrdfMap& map, const BasisView& basis, const std::vecto
   return score;
 }
 
-NormalScore ScoreNormals(const SvbrdfMap& map, const std::vector<Eigen::Vector3f>& truth) {
+namespace {
+
+// Whether another material lies within kInkEdgeReach pixels of (x, y).
+bool NearInkEdge(const std::vector<int>& labels, int w, int h, int x, int y) {
+  const int own = labels[std::size_t(y) * w + x];
+  for (int dy = -kInkEdgeReach; dy <= kInkEdgeReach; ++dy)
+    for (int dx = -kInkEdgeReach; dx <= kInkEdgeReach; ++dx) {
+      const int u = std::clamp(x + dx, 0, w - 1), v = std::clamp(y + dy, 0, h - 1);
+      if (labels[std::size_t(v) * w + u] != own) return true;
+    }
+  return false;
+}
+
+double MedianOrNan(const std::vector<double>& v) {
+  return v.empty() ? std::numeric_limits<double>::quiet_NaN() : Median(v);
+}
+
+}  // namespace
+
+NormalScore ScoreNormals(const SvbrdfMap& map, const std::vector<Eigen::Vector3f>& truth,
+                         const std::vector<int>& labels) {
   const int w = map.info.width, h = map.info.height;
-  if (truth.size() != std::size_t(w) * std::size_t(h))
+  const std::size_t pixels = std::size_t(w) * std::size_t(h);
+  if (truth.size() != pixels || (!labels.empty() && labels.size() != pixels))
     throw UserError("normal score", "the truth has " + std::to_string(truth.size()) +
-                                        " normals for a map of " + std::to_string(w) + " x " +
+                                        " normals and " + std::to_string(labels.size()) +
+                                        " labels for a map of " + std::to_string(w) + " x " +
                                         std::to_string(h) + " pixels");
-  std::vector<double> relief, assumed, flat;
+  std::vector<double> relief, assumed, flat, one_material, ink_edges;
   NormalScore score;
+  score.error_deg.resize(truth.size());
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x) {
       const Eigen::Vector3f& t = truth[std::size_t(y) * w + x];
@@ -96,15 +119,23 @@ NormalScore ScoreNormals(const SvbrdfMap& map, const std::vector<Eigen::Vector3f
       score.no_evidence += status == float(NormalStatus::kNoEvidence);
       const double tilt = NormalAngle(t, Eigen::Vector3f::UnitZ());
       const double error = RadToDeg(NormalAngle(t, got.normalized()));
-      if (tilt > DegToRad(0.5)) relief.push_back(error), assumed.push_back(RadToDeg(tilt));
+      score.error_deg[std::size_t(y) * w + x] = float(error);
       if (tilt < DegToRad(0.05)) flat.push_back(error);
+      if (!(tilt > DegToRad(0.5))) continue;
+      relief.push_back(error);
+      assumed.push_back(RadToDeg(tilt));
+      if (!labels.empty())
+        (NearInkEdge(labels, w, h, x, y) ? ink_edges : one_material).push_back(error);
     }
-  const double nan = std::numeric_limits<double>::quiet_NaN();
-  score.median_error_deg_relief = relief.empty() ? nan : Median(relief);
-  score.median_error_deg_relief_assumed_flat = assumed.empty() ? nan : Median(assumed);
-  score.median_tilt_deg_flat = flat.empty() ? nan : Median(flat);
+  score.median_error_deg_relief = MedianOrNan(relief);
+  score.median_error_deg_relief_assumed_flat = MedianOrNan(assumed);
+  score.median_tilt_deg_flat = MedianOrNan(flat);
+  score.median_error_deg_relief_one_material = MedianOrNan(one_material);
+  score.median_error_deg_relief_ink_edges = MedianOrNan(ink_edges);
   score.relief_pixels = long(relief.size());
   score.flat_pixels = long(flat.size());
+  score.relief_pixels_one_material = long(one_material.size());
+  score.relief_pixels_ink_edges = long(ink_edges.size());
   return score;
 }
 

@@ -34,9 +34,20 @@ struct NormalScore {
   double median_error_deg_relief = 0, median_error_deg_relief_assumed_flat = 0;
   double median_tilt_deg_flat = 0;
   long relief_pixels = 0, flat_pixels = 0, refused = 0, no_evidence = 0;
+  // With labels: the relief split into pixels of one material all around (kInkEdgeReach) and
+  // pixels near an edge between materials, whose views mix two materials and two slopes (an
+  // embossed print is steepest where its ink ends).
+  double median_error_deg_relief_one_material = 0, median_error_deg_relief_ink_edges = 0;
+  long relief_pixels_one_material = 0, relief_pixels_ink_edges = 0;
+  std::vector<float> error_deg;  // per map pixel, row-major: the estimate's angle to the truth
 };
-// `truth[pixel]`: the true normal (sample frame, unit) of each map pixel, row-major.
-NormalScore ScoreNormals(const SvbrdfMap& map, const std::vector<Eigen::Vector3f>& truth);
+// How far (map pixels) another material makes a pixel an ink edge's: a view 65 degrees off the
+// normal sees a map pixel's point through a camera pixel 2.4 map pixels long.
+constexpr int kInkEdgeReach = 2;
+// `truth[pixel]`: the true normal (sample frame, unit) of each map pixel, row-major; `labels`
+// (optional, same order): the true material, for the split by ink edges.
+NormalScore ScoreNormals(const SvbrdfMap& map, const std::vector<Eigen::Vector3f>& truth,
+                         const std::vector<int>& labels = {});
 
 // Where the diffuse colour is read: light 45 degrees from the normal, camera along it, away
 // from the specular lobe (the half vector 22.5 degrees off the normal).

@@ -26,6 +26,45 @@ struct Candidate {
   double misfit = std::numeric_limits<double>::infinity();
 };
 
+// A view that a candidate facet turns away from (light behind it, or the facet hidden from the
+// camera) is not a view the candidate may drop: the facet would be dark there (as the renderer
+// makes it) and the pixel was seen lit. Scored as a prediction of zero, the view costs the
+// candidate its mapped observation's height above the mapping's floor. Otherwise tilting away
+// from the one view a material's centre fits worst (a grazing light) lowers the RMS misfit.
+struct DarkViews {
+  std::vector<double> cost;  // per view: squared mapped residual of zero, 3 channels; NaN: unseen
+  ViewRows rows;             // scratch
+  void Prepare(const BasisView& basis, const PixelObservations& obs, int pixel, RowLookup lookup) {
+    rows.Sample(basis, obs, pixel, 1, lookup);
+    cost.assign(obs.views, std::numeric_limits<double>::quiet_NaN());
+    for (int v = 0; v < obs.views; ++v) {
+      const float* rgb = &obs.rgb[3 * obs.At(pixel, v)];
+      if (!(rows.ok[v] && std::isfinite(rgb[0]) && std::isfinite(rgb[1]) && std::isfinite(rgb[2])))
+        continue;
+      const BasisSample& b = rows.samples[v];
+      double sum = 0;
+      for (int c = 0; c < 3; ++c)
+        sum += std::pow(MapBrdf(rgb[c], b.cos_weight, b.ref) - MapBrdf(0, b.cos_weight, b.ref), 2);
+      cost[v] = sum;
+    }
+  }
+  // `misfit` (RMS over 3 x `views` values) with the views the facet `n` turns away from added.
+  void Charge(const Eigen::Vector3f& n, const PixelObservations& obs, int pixel, double* misfit,
+              int* views) const {
+    const Eigen::Matrix3f r = FacetFromSample(n);
+    double sum = *misfit * *misfit * 3.0 * *views;
+    int count = *views;
+    for (int v = 0; v < obs.views; ++v) {
+      const std::size_t i = obs.At(pixel, v);
+      if (std::isnan(cost[v])) continue;
+      if ((r * obs.light[i]).z() > 0 && (r * obs.camera[i]).z() > 0) continue;
+      sum += cost[v];
+      ++count;
+    }
+    if (count > *views) *misfit = std::sqrt(sum / (3.0 * count)), *views = count;
+  }
+};
+
 // Scores candidates[p] (one list per pixel of the chunk [first, first + count)) with one batch
 // of the per-pixel solver.
 void ScoreCandidates(const BasisView& basis, const PixelObservations& obs, int first, int count,
@@ -55,13 +94,17 @@ void ScoreCandidates(const BasisView& basis, const PixelObservations& obs, int f
   solution.Resize(total, o.components);
   SolvePixels(basis, batch, search, &solution);
   *scored = lists;
+  DarkViews dark;
   for (int i = 0; i < total; ++i) {
     const auto [p, c] = owner[i];
+    if (c == 0) dark.Prepare(basis, obs, first + p, solve.lookup);
     Candidate& cand = (*scored)[p][c];
     cand.views = solution.observations[i];
     // Not valid (too few views, too poorly conditioned, not finite): no score.
     if (!solution.valid[i]) continue;
     cand.misfit = solution.residual[i];
+    dark.Charge(NormalOfSlope(cand.slope.x(), cand.slope.y()), obs, first + p, &cand.misfit,
+                &cand.views);
     cand.score = cand.misfit + o.prior * double(cand.slope.squaredNorm());
   }
 }
@@ -120,6 +163,7 @@ struct CentreScorer {
   ViewRows rows;
   std::vector<int> used;  // views usable at the candidate
   std::vector<double> y;  // their mapped observations less the mean, 3 a view
+  DarkViews dark;         // the pixel's views as a facet turned away from them scores them
 
   // The observations in `one`, mapped, with the basis sampled at kc components.
   void Prepare(int kc) {
@@ -157,15 +201,18 @@ struct CentreScorer {
     one.Resize(1, obs.views);
     int kc = 0;
     for (int g : groups) kc = std::max(kc, model.groups[g].centre_components);
+    dark.Prepare(basis, obs, pixel, lookup);
     for (Candidate& cand : *candidates) {
-      ToFacetFrame(NormalOfSlope(cand.slope.x(), cand.slope.y()),
-                   std::max(o.min_cos, o.score_min_cos), obs, pixel, &one, 0);
+      const Eigen::Vector3f n = NormalOfSlope(cand.slope.x(), cand.slope.y());
+      ToFacetFrame(n, std::max(o.min_cos, o.score_min_cos), obs, pixel, &one, 0);
       Prepare(kc);
       if (int(used.size()) < min_views) continue;
       for (int g : groups) {
-        const double misfit = Misfit(g);
+        double misfit = Misfit(g);
+        int views = int(used.size());
+        dark.Charge(n, obs, pixel, &misfit, &views);
         const double score = misfit + o.prior * double(cand.slope.squaredNorm());
-        if (score < cand.score) cand = {cand.slope, score, int(used.size()), g, misfit};
+        if (score < cand.score) cand = {cand.slope, score, views, g, misfit};
       }
     }
   }
@@ -180,7 +227,7 @@ void ScoreAgainstCentres(const BasisView& basis, const PixelObservations& obs, i
   *scored = lists;
 #pragma omp parallel
   {
-    CentreScorer scorer{basis, model, solve.lookup, {}, {}};
+    CentreScorer scorer{basis, model, solve.lookup, {}, {}, {}, {}, {}};
 #pragma omp for schedule(dynamic, 16)
     for (int p = 0; p < count; ++p)
       scorer.Score(obs, first + p, groups[p], o, solve.MinObservations(), &(*scored)[p]);
@@ -296,7 +343,8 @@ ChunkSearch SearchChunk(const BasisView& basis, const PixelObservations& obs, in
 }  // namespace
 
 PooledModel FitNormalReference(const BasisView& basis, const PixelObservations& sample,
-                               const PixelSolveOptions& solve, const NormalSearchOptions& o,
+                               const PixelSolveOptions& solve,
+                               const NormalSearchOptions& /*options*/,
                                const PooledOptions& pooled) {
   PooledOptions reference = pooled;
   reference.centre_eta_fractions = {1, 1.0 / 4, 1.0 / 16, 1.0 / 64, 1.0 / 256};

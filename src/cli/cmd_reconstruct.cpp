@@ -113,13 +113,16 @@ void AddRelief(const Args& args, sim::SyntheticSvbrdf* layout) {
 
 // The recovered normals against the scene's (acq/map_score.h).
 void PrintNormalScore(const SvbrdfMap& map, const sim::SyntheticSvbrdf& scene) {
-  const NormalScore n = ScoreNormals(map, scene.normal);
+  const NormalScore n =
+      ScoreNormals(map, scene.normal, std::vector<int>(scene.label.begin(), scene.label.end()));
   std::printf(
       "score: normals: median angular error %.3f deg over the relief (%ld pixels; %.3f assumed "
-      "flat), median false tilt %.3f deg on flat areas (%ld pixels), %ld refused, %ld without "
-      "evidence\n",
+      "flat; %.3f over %ld of one material, %.3f over %ld at ink edges), median false tilt %.3f "
+      "deg on flat areas (%ld pixels), %ld refused, %ld without evidence\n",
       n.median_error_deg_relief, n.relief_pixels, n.median_error_deg_relief_assumed_flat,
-      n.median_tilt_deg_flat, n.flat_pixels, n.refused, n.no_evidence);
+      n.median_error_deg_relief_one_material, n.relief_pixels_one_material,
+      n.median_error_deg_relief_ink_edges, n.relief_pixels_ink_edges, n.median_tilt_deg_flat,
+      n.flat_pixels, n.refused, n.no_evidence);
 }
 
 int ReconstructSynthetic(const Argv& argv) {

@@ -167,14 +167,20 @@ std::string SessionReport::Json() const {
                          {"material_homogeneous_log_rmse", homogeneous_log_rmse}};
   if (normals) {
     const auto finite = [](double v) { return std::isfinite(v) ? Json(v) : Json(nullptr); };
-    j["normals"] = {{"median_error_deg_relief", finite(normals->median_error_deg_relief)},
-                    {"median_error_deg_relief_assumed_flat",
-                     finite(normals->median_error_deg_relief_assumed_flat)},
-                    {"median_tilt_deg_flat", finite(normals->median_tilt_deg_flat)},
-                    {"relief_pixels", normals->relief_pixels},
-                    {"flat_pixels", normals->flat_pixels},
-                    {"refused", normals->refused},
-                    {"no_evidence", normals->no_evidence}};
+    j["normals"] = {
+        {"median_error_deg_relief", finite(normals->median_error_deg_relief)},
+        {"median_error_deg_relief_assumed_flat",
+         finite(normals->median_error_deg_relief_assumed_flat)},
+        {"median_tilt_deg_flat", finite(normals->median_tilt_deg_flat)},
+        {"median_error_deg_relief_one_material",
+         finite(normals->median_error_deg_relief_one_material)},
+        {"median_error_deg_relief_ink_edges", finite(normals->median_error_deg_relief_ink_edges)},
+        {"relief_pixels_one_material", normals->relief_pixels_one_material},
+        {"relief_pixels_ink_edges", normals->relief_pixels_ink_edges},
+        {"relief_pixels", normals->relief_pixels},
+        {"flat_pixels", normals->flat_pixels},
+        {"refused", normals->refused},
+        {"no_evidence", normals->no_evidence}};
   }
   if (scored) {
     j["ground_truth"]["validation"] = Json::array();
@@ -327,8 +333,11 @@ std::string TruthText(const SessionReport& s) {
   if (const auto& n = s.normals) {
     std::snprintf(line, sizeof line,
                   "  normals against the relief: median error %.2f deg over it (%.2f assumed "
-                  "flat), false tilt %.2f deg on flat areas; %ld refused, %ld without evidence\n",
+                  "flat; %.2f over %ld pixels of one material, %.2f over %ld at ink edges), false "
+                  "tilt %.2f deg on flat areas; %ld refused, %ld without evidence\n",
                   n->median_error_deg_relief, n->median_error_deg_relief_assumed_flat,
+                  n->median_error_deg_relief_one_material, n->relief_pixels_one_material,
+                  n->median_error_deg_relief_ink_edges, n->relief_pixels_ink_edges,
                   n->median_tilt_deg_flat, n->refused, n->no_evidence);
     t << line;
   }

@@ -19,6 +19,33 @@
 namespace acq {
 namespace {
 
+// The true normal a map pixel sees: the mean of the card's normals over the pixel's footprint
+// on the sample (a 4 x 4 grid of points across the parallelogram its neighbours' points span),
+// as a normal map at the map's resolution holds it. A point sample at the pixel's centre would
+// score the estimate against a normal that only part of the pixel shows (the embossing's edges
+// are a pixel or two wide).
+std::vector<Eigen::Vector3f> FootprintNormals(const sim::SyntheticSvbrdf& card,
+                                              const std::vector<Eigen::Vector3d>& points, int w,
+                                              int h) {
+  constexpr int kSub = 4;
+  std::vector<Eigen::Vector3f> normals(points.size(), Eigen::Vector3f::UnitZ());
+  auto at = [&](int x, int y) -> Eigen::Vector2d {
+    return points[std::size_t(std::clamp(y, 0, h - 1)) * w + std::clamp(x, 0, w - 1)].head<2>();
+  };
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const Eigen::Vector2d c = at(x, y);
+      const Eigen::Vector2d du = (at(x + 1, y) - at(x - 1, y)) / (x > 0 && x < w - 1 ? 2 : 1);
+      const Eigen::Vector2d dv = (at(x, y + 1) - at(x, y - 1)) / (y > 0 && y < h - 1 ? 2 : 1);
+      Eigen::Vector3f sum = Eigen::Vector3f::Zero();
+      for (int j = 0; j < kSub; ++j)
+        for (int i = 0; i < kSub; ++i)
+          sum += card.NormalAt(c + du * ((i + 0.5) / kSub - 0.5) + dv * ((j + 0.5) / kSub - 0.5));
+      normals[std::size_t(y) * w + x] = sum.normalized();
+    }
+  return normals;
+}
+
 // The card's true materials (as the camera records them: linear Rec. 709, or luminance for a
 // mono camera), and the true material's label at each map pixel.
 struct TruthAtPixels {
@@ -34,12 +61,11 @@ TruthAtPixels TruthOfMap(const Plan& plan, const sim::GroundTruthFiles& truth_fi
                                  plan.sim.seed);
   // Where each map pixel lies on the sample: computed here, for scoring only (2 s of mrcal's
   // unprojection at 2048 x 2048, not the processing's to spend).
-  for (const Eigen::Vector3d& p :
-       calib::SamplePoints(ReferenceViewOf(plan, process.calibration.camera))) {
-    t.labels.push_back(truth_files.card.LabelAt(p.head<2>()));
-    if (!truth_files.card.normal.empty())
-      t.normals.push_back(truth_files.card.NormalAt(p.head<2>()));
-  }
+  const calib::ReferenceView reference = ReferenceViewOf(plan, process.calibration.camera);
+  const std::vector<Eigen::Vector3d> points = calib::SamplePoints(reference);
+  for (const Eigen::Vector3d& p : points) t.labels.push_back(truth_files.card.LabelAt(p.head<2>()));
+  if (!truth_files.card.normal.empty())
+    t.normals = FootprintNormals(truth_files.card, points, reference.width, reference.height);
   return t;
 }
 
@@ -59,6 +85,17 @@ void ScoreMapAgainstTruth(const Plan& plan, const std::string& dir, const Svbrdf
   error.attributes["meaning"] =
       "log_rmse: log-space RMSE against the true material, -1 off the card; label: the true "
       "material's index in materials.tsv, -1 off the card";
+  if (!truth_at.normals.empty()) {
+    report->normals = ScoreNormals(map, truth_at.normals, labels);
+    error.planes["normal_error_deg"] = report->normals->error_deg;
+    for (int axis = 0; axis < 3; ++axis) {
+      std::vector<float>& plane = error.planes[std::string("true_normal.") + "xyz"[axis]];
+      for (const Eigen::Vector3f& n : truth_at.normals) plane.push_back(n[axis]);
+    }
+    error.attributes["meaning"] +=
+        "; normal_error_deg: the estimated normal's angle to the true one (degrees); "
+        "true_normal: the mean of the relief's normals over the pixel (sample frame)";
+  }
   WriteFloatPlanesExr(dir + "/ground_truth/error.exr", error);
   std::vector<double> homogeneous;
   const std::vector<std::size_t> bins = BinsOf(plan.directions);
@@ -153,7 +190,6 @@ void ScoreAgainstGroundTruth(const Plan& plan, const std::string& session_dir,
   const MappedBasis mapped = MappedBasis::Open(plan.reconstruction.basis_file);
   ScoreMapAgainstTruth(plan, session_dir, map, mapped.View(), truth_at, truth, report);
   ScoreValidationAgainstTruth(plan, session_dir, map, mapped.View(), truth_at, report);
-  if (!truth_at.normals.empty()) report->normals = ScoreNormals(map, truth_at.normals);
   ScoreCalibration(plan, truth.camera, report);
 }
 
