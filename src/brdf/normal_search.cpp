@@ -1,8 +1,10 @@
 #include "brdf/normal_search.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
+#include <optional>
 
 #include "brdf/log_mapping.h"
 #include "brdf/pixel_rows.h"
@@ -35,7 +37,7 @@ struct DarkViews {
   std::vector<double> cost;  // per view: squared mapped residual of zero, 3 channels; NaN: unseen
   ViewRows rows;             // scratch
   void Prepare(const BasisView& basis, const PixelObservations& obs, int pixel, RowLookup lookup) {
-    rows.Sample(basis, obs, pixel, 1, lookup);
+    rows.SampleInLanes(basis, obs, pixel, 1, lookup);
     cost.assign(obs.views, std::numeric_limits<double>::quiet_NaN());
     for (int v = 0; v < obs.views; ++v) {
       const float* rgb = &obs.rgb[3 * obs.At(pixel, v)];
@@ -167,7 +169,7 @@ struct CentreScorer {
 
   // The observations in `one`, mapped, with the basis sampled at kc components.
   void Prepare(int kc) {
-    rows.Sample(basis, one, 0, kc, lookup);
+    rows.SampleInLanes(basis, one, 0, kc, lookup);
     used.clear();
     y.clear();
     for (int v = 0; v < one.views; ++v) {
@@ -181,20 +183,27 @@ struct CentreScorer {
   }
 
   // The RMS log-space misfit of group g's centre (its k_c components; zero past them).
-  double Misfit(int g) const {
-    const PooledGroup& group = model.groups[g];
-    const int K = model.components, kc = group.centre_components;
+  double Misfit(int g) {
+    const int kc = model.groups[g].centre_components;
+    predicted.noalias() = rows.rows.leftCols(kc) * centres[g].topRows(kc);
     double sum = 0;
     for (std::size_t i = 0; i < used.size(); ++i)
-      for (int ch = 0; ch < 3; ++ch) {
-        const float* c = &group.centre[std::size_t(ch) * K];
-        double predicted = 0;
-        for (int j = 0; j < kc; ++j) predicted += rows.rows(used[i], j) * c[j];
-        sum += std::pow(predicted - y[3 * i + ch], 2);
-      }
+      for (int ch = 0; ch < 3; ++ch) sum += std::pow(predicted(used[i], ch) - y[3 * i + ch], 2);
     return used.empty() ? std::numeric_limits<double>::infinity()
                         : std::sqrt(sum / (3.0 * double(used.size())));
   }
+  // The groups' centres as K x 3 matrices (a channel a column), for Misfit's product.
+  void CopyCentres() {
+    centres.resize(model.groups.size());
+    for (std::size_t g = 0; g < model.groups.size(); ++g) {
+      centres[g].resize(model.components, 3);
+      for (int ch = 0; ch < 3; ++ch)
+        for (int j = 0; j < model.components; ++j)
+          centres[g](j, ch) = model.groups[g].centre[std::size_t(ch) * model.components + j];
+    }
+  }
+  std::vector<Eigen::MatrixXd> centres;
+  Eigen::MatrixXd predicted;  // views x 3
 
   void Score(const PixelObservations& obs, int pixel, const std::vector<int>& groups,
              const NormalSearchOptions& o, int min_views, std::vector<Candidate>* candidates) {
@@ -227,7 +236,8 @@ void ScoreAgainstCentres(const BasisView& basis, const PixelObservations& obs, i
   *scored = lists;
 #pragma omp parallel
   {
-    CentreScorer scorer{basis, model, solve.lookup, {}, {}, {}, {}, {}};
+    CentreScorer scorer{basis, model, solve.lookup, {}, {}, {}, {}, {}, {}, {}};
+    scorer.CopyCentres();
 #pragma omp for schedule(dynamic, 16)
     for (int p = 0; p < count; ++p)
       scorer.Score(obs, first + p, groups[p], o, solve.MinObservations(), &(*scored)[p]);
@@ -255,6 +265,16 @@ std::optional<NormalCriterion> ParseNormalCriterion(const std::string& name) {
   return std::nullopt;
 }
 
+const char* NormalSearchMethodName(NormalSearchMethod method) {
+  return method == NormalSearchMethod::kGrid ? "grid" : "quadratic";
+}
+
+std::optional<NormalSearchMethod> ParseNormalSearchMethod(const std::string& name) {
+  for (NormalSearchMethod m : {NormalSearchMethod::kGrid, NormalSearchMethod::kQuadratic})
+    if (name == NormalSearchMethodName(m)) return m;
+  return std::nullopt;
+}
+
 void NormalSearchOptions::Check(const BasisView& basis) const {
   if (!enabled) return;
   if (!(max_tilt_deg > 0 && max_tilt_deg < 60))
@@ -267,6 +287,8 @@ void NormalSearchOptions::Check(const BasisView& basis) const {
   if (!(estimated_min_cos >= 0 && estimated_min_cos < 1))
     throw UserError("normals estimated min cos", "must be in [0, 1)");
   if (levels < 0 || levels > 12) throw UserError("normals levels", "must be in [0, 12]");
+  if (coarse_reach < 1 || coarse_reach > 4)
+    throw UserError("normals coarse reach", "must be in [1, 4]");
   if (chunk_pixels < 1) throw UserError("normals chunk", "must be at least 1");
 }
 
@@ -300,6 +322,27 @@ struct ChunkSearch {
   std::vector<Candidate> best, flat;
 };
 
+// The minimum of the quadratic through a 3 x 3 grid of scores f[a + 1][b + 1] at offsets
+// (a, b) steps from its centre (least squares: 9 values, 6 coefficients), in steps and clamped
+// to the grid; nothing when the fit is not a bowl or a score is missing.
+std::optional<Eigen::Vector2f> QuadraticMinimum(const double f[3][3]) {
+  for (int a = 0; a < 3; ++a)
+    for (int b = 0; b < 3; ++b)
+      if (!std::isfinite(f[a][b])) return std::nullopt;
+  double gx = 0, gy = 0, hxx = 0, hyy = 0;
+  for (int i = 0; i < 3; ++i) {
+    gx += (f[2][i] - f[0][i]) / 6;
+    gy += (f[i][2] - f[i][0]) / 6;
+    hxx += (f[2][i] + f[0][i] - 2 * f[1][i]) / 3;
+    hyy += (f[i][2] + f[i][0] - 2 * f[i][1]) / 3;
+  }
+  const double hxy = (f[2][2] - f[2][0] - f[0][2] + f[0][0]) / 4;
+  const double det = hxx * hyy - hxy * hxy;
+  if (!(hxx > 0 && det > 0)) return std::nullopt;
+  const double dx = -(hyy * gx - hxy * gy) / det, dy = -(hxx * gy - hxy * gx) / det;
+  return Eigen::Vector2f(float(std::clamp(dx, -1.0, 1.0)), float(std::clamp(dy, -1.0, 1.0)));
+}
+
 ChunkSearch SearchChunk(const BasisView& basis, const PixelObservations& obs, int first, int count,
                         const PixelSolveOptions& solve, const NormalSearchOptions& o,
                         const PooledModel* reference) {
@@ -308,11 +351,28 @@ ChunkSearch SearchChunk(const BasisView& basis, const PixelObservations& obs, in
   std::vector<std::vector<int>> groups =
       reference ? NearestGroups(basis, obs, first, count, *reference, solve)
                 : std::vector<std::vector<int>>();
+  const auto score = [&](const std::vector<std::vector<Candidate>>& lists) {
+    std::vector<std::vector<Candidate>> scored;
+    if (reference)
+      ScoreAgainstCentres(basis, obs, first, count, lists, groups, *reference, solve, o, &scored);
+    else
+      ScoreCandidates(basis, obs, first, count, lists, solve, o, &scored);
+    return scored;
+  };
+  const auto keep_best = [&](int p, const std::vector<Candidate>& scored) {
+    for (const Candidate& cand : scored)
+      if (cand.score < c.best[p].score && cand.views >= c.flat[p].views - kViewsItMayLose)
+        c.best[p] = cand;
+  };
   c.best.assign(count, Candidate{Eigen::Vector2f::Zero()});
   c.flat.resize(count);
+  const bool quadratic = o.method == NormalSearchMethod::kQuadratic;
+  // Per pixel, the last level's 3 x 3 scores around the best it started from.
+  std::vector<std::array<std::array<double, 3>, 3>> last(count);
+  std::vector<Eigen::Vector2f> last_centre(count);
   float step = cone / 2;
-  for (int level = 0; level <= o.levels; ++level, step /= 2) {
-    const int reach = level == 0 ? 2 : 1;  // 5 x 5, then 3 x 3 around the best
+  for (int level = 0; level <= o.Levels(); ++level, step /= 2) {
+    const int reach = level == 0 ? o.coarse_reach : 1;  // the coarse grid, then 3 x 3
     std::vector<std::vector<Candidate>> lists(count);
     for (int p = 0; p < count; ++p)
       for (int a = -reach; a <= reach; ++a)
@@ -321,22 +381,41 @@ ChunkSearch SearchChunk(const BasisView& basis, const PixelObservations& obs, in
           const Eigen::Vector2f s = c.best[p].slope + step * Eigen::Vector2f(float(a), float(b));
           if (s.norm() <= cone * 1.0001f) lists[p].push_back({s});
         }
-    std::vector<std::vector<Candidate>> scored;
-    if (reference)
-      ScoreAgainstCentres(basis, obs, first, count, lists, groups, *reference, solve, o, &scored);
-    else
-      ScoreCandidates(basis, obs, first, count, lists, solve, o, &scored);
+    const std::vector<std::vector<Candidate>> scored = score(lists);
     for (int p = 0; p < count; ++p) {
       if (level == 0)
         for (const Candidate& cand : scored[p])
           if (cand.slope.isZero()) c.flat[p] = cand;
-      for (const Candidate& cand : scored[p])
-        if (cand.score < c.best[p].score && cand.views >= c.flat[p].views - kViewsItMayLose)
-          c.best[p] = cand;
+      if (level == o.Levels() && level > 0) {
+        auto& f = last[p];
+        for (auto& row : f) row.fill(std::numeric_limits<double>::infinity());
+        last_centre[p] = c.best[p].slope;
+        f[1][1] = c.best[p].score;
+        for (const Candidate& cand : scored[p]) {
+          const Eigen::Vector2f d = (cand.slope - last_centre[p]) / step;
+          f[int(std::lround(d.x())) + 1][int(std::lround(d.y())) + 1] = cand.score;
+        }
+      }
+      keep_best(p, scored[p]);
       // The coarse grid chose the group (jointly with the tilt); the refinements keep it.
       if (level == 0 && reference && c.best[p].group >= 0) groups[p] = {c.best[p].group};
     }
   }
+  if (!quadratic || o.Levels() == 0) return c;
+  // A Newton step on the quadratic through the last level's 3 x 3: one candidate more a pixel.
+  step *= 2;  // the last level's
+  std::vector<std::vector<Candidate>> lists(count);
+  for (int p = 0; p < count; ++p) {
+    double f[3][3];
+    for (int a = 0; a < 3; ++a)
+      for (int b = 0; b < 3; ++b) f[a][b] = last[p][a][b];
+    const std::optional<Eigen::Vector2f> d = QuadraticMinimum(f);
+    if (!d) continue;
+    const Eigen::Vector2f s = last_centre[p] + step * *d;
+    if (s.norm() <= cone * 1.0001f && s != c.best[p].slope) lists[p].push_back({s});
+  }
+  const std::vector<std::vector<Candidate>> scored = score(lists);
+  for (int p = 0; p < count; ++p) keep_best(p, scored[p]);
   return c;
 }
 

@@ -46,6 +46,10 @@ enum class NormalCriterion {
 const char* NormalCriterionName(NormalCriterion criterion);  // "fit", "held-out", "centre"
 std::optional<NormalCriterion> ParseNormalCriterion(const std::string& name);
 
+enum class NormalSearchMethod { kGrid, kQuadratic };
+const char* NormalSearchMethodName(NormalSearchMethod method);  // "grid", "quadratic"
+std::optional<NormalSearchMethod> ParseNormalSearchMethod(const std::string& name);
+
 struct NormalSearchOptions {
   bool enabled = false;
   double max_tilt_deg = 25;  // the cone searched around the sample's normal
@@ -53,7 +57,13 @@ struct NormalSearchOptions {
   NormalCriterion criterion = NormalCriterion::kCentre;  // docs/reconstruction.md, "Normals"
   double eta = kDefaultEta;
   double prior = 0.05;  // weight of tan^2(tilt) against the RMS log-space misfit
-  int levels = 6;       // refinements after the coarse grid (the last step: cone / 128)
+  // How the coarse grid's best is refined: 3 x 3 grids, each halving the step, `levels` times
+  // (kGrid), or fewer such levels and then a Newton step on the quadratic fitted to the last
+  // 3 x 3 (kQuadratic). docs/reconstruction.md, "Normals", measures both.
+  NormalSearchMethod method = NormalSearchMethod::kGrid;
+  int levels = 0;        // refinements after the coarse grid; 0: the method's default
+  int coarse_reach = 2;  // the coarse grid: (2 reach + 1)^2 slopes, spaced half the cone
+  int Levels() const { return levels > 0 ? levels : method == NormalSearchMethod::kGrid ? 6 : 3; }
   // A view or light at or below this cosine to a candidate facet is not used. 0: only those
   // behind it; anything more drops the grazing views the flat solve uses (the seed paper's set
   // has lights at 85 degrees), which alone raised a flat brass card's error from 0.285 to 0.335.

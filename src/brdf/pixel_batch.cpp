@@ -6,6 +6,7 @@
 
 #include "brdf/log_mapping.h"
 #include "core/merl_grid_lanes.h"
+#include "core/rusinkiewicz_lanes.h"
 
 namespace acq {
 namespace {
@@ -57,18 +58,9 @@ void PixelBatch<T>::Load(const BasisView& basis, const PixelObservations& obs, i
       cx[l] = obs.camera[i].x(), cy[l] = obs.camera[i].y(), cz[l] = obs.camera[i].z();
       for (int ch = 0; ch < 3; ++ch) rgb[ch][l] = obs.rgb[3 * i + ch];
     }
-    V hx = lx + cx, hy = ly + cy, hz = lz + cz;
-    const V inv_norm = T(1) / Sqrt<T>(hx * hx + hy * hy + hz * hz);
-    hx *= inv_norm, hy *= inv_norm, hz *= inv_norm;
-    const V sin_h = Sqrt<T>(hx * hx + hy * hy), cos_h = hz;
-    const V theta_h = Atan2<T>(sin_h, cos_h);
-    const M pole = sin_h < T(1e-12);
-    const V cos_p = pole ? Splat<T>(1) : hx / sin_h, sin_p = pole ? Splat<T>(0) : hy / sin_h;
-    const V x1 = cos_p * lx + sin_p * ly, y1 = -sin_p * lx + cos_p * ly;
-    const V dx = cos_h * x1 - sin_h * lz, dz = sin_h * x1 + cos_h * lz;
-    const V theta_d = Atan2<T>(Sqrt<T>(dx * dx + y1 * y1), dz);
-    const V phi_d = Atan2<T>(y1, dx);
-    const V cos_weight = Min<T>(Max<T>(lz * cz, Splat<T>(T(merl::kCosWeightMin))), Splat<T>(1));
+    const IsotropicAnglesLanes<T> angles = IsotropicAnglesOf<T>(lx, ly, lz, cx, cy, cz);
+    const V &theta_h = angles.theta_h, &theta_d = angles.theta_d, &phi_d = angles.phi_d;
+    const V& cos_weight = angles.cos_weight;
 
     // Nearest bins in lanes; interpolated rows one observation at a time (SampleBasisAt).
     const M bins =

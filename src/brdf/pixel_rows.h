@@ -5,12 +5,15 @@
 
 #include <Eigen/Cholesky>
 #include <Eigen/Core>
+#include <algorithm>
 #include <cstdint>
 #include <limits>
 #include <vector>
 
 #include "brdf/basis_rows.h"
 #include "brdf/pixel_solver.h"
+#include "core/merl_grid_lanes.h"
+#include "core/rusinkiewicz_lanes.h"
 
 namespace acq {
 
@@ -33,6 +36,47 @@ struct ViewRows {
       ok[v] = SampleBasis(basis, obs.light[i].cast<double>(), obs.camera[i].cast<double>(), k,
                           lookup, row.data(), &samples[v]);
       for (int c = 0; c < k; ++c) rows(v, c) = row[c];
+    }
+  }
+  // The same with the directions converted kLanes<double> views at a time
+  // (core/rusinkiewicz_lanes.h): for the normal search, which samples every candidate's views.
+  // A bin may differ from Sample's where an angle lies within rounding of its edge.
+  void SampleInLanes(const BasisView& basis, const PixelObservations& obs, int pixel, int k,
+                     RowLookup lookup) {
+    using V = Lanes<double>;
+    constexpr int kWidth = kLanes<double>;
+    ok.assign(obs.views, 0);
+    samples.resize(obs.views);
+    rows.setZero(obs.views, k);  // a view not sampled predicts nothing (callers skip it)
+    row.resize(k);
+    for (int first = 0; first < obs.views; first += kWidth) {
+      const int count = std::min(kWidth, obs.views - first);
+      V lx{}, ly{}, lz = Splat<double>(1), cx{}, cy{}, cz = Splat<double>(1);
+      for (int l = 0; l < count; ++l) {
+        const std::size_t i = obs.At(pixel, first + l);
+        lx[l] = obs.light[i].x(), ly[l] = obs.light[i].y(), lz[l] = obs.light[i].z();
+        cx[l] = obs.camera[i].x(), cy[l] = obs.camera[i].y(), cz[l] = obs.camera[i].z();
+      }
+      const IsotropicAnglesLanes<double> a = IsotropicAnglesOf<double>(lx, ly, lz, cx, cy, cz);
+      const LaneMask<double> bins = lookup == RowLookup::kNearest
+                                        ? merl::FlatBinOf<double>(a.theta_h, a.theta_d, a.phi_d)
+                                        : LaneMask<double>{};
+      for (int l = 0; l < count; ++l) {
+        const int v = first + l;
+        if (!(lz[l] > 0 && cz[l] > 0)) continue;  // SampleBasis's rule: both above the horizon
+        if (lookup == RowLookup::kNearest) {  // SampleBasisAt's nearest bin, its row read in place
+          const std::size_t bin = std::size_t(bins[l]);
+          if (!(ok[v] = basis.valid[bin])) continue;
+          const float* q = basis.Row(bin);
+          for (int c = 0; c < k; ++c) rows(v, c) = q[c];
+          samples[v] = {basis.mean[bin], basis.ref[bin], float(a.cos_weight[l])};
+          continue;
+        }
+        RusinkiewiczAngles angles;
+        angles.theta_h = a.theta_h[l], angles.theta_d = a.theta_d[l], angles.phi_d = a.phi_d[l];
+        ok[v] = SampleBasisAt(basis, angles, a.cos_weight[l], k, lookup, row.data(), &samples[v]);
+        for (int c = 0; c < k; ++c) rows(v, c) = row[c];
+      }
     }
   }
 };

@@ -49,6 +49,12 @@ NormalCriterion NormalCriterionFrom(const Args& args, NormalCriterion fallback) 
   throw UserError("--normals-criterion", "must be 'fit', 'held-out' or 'centre', got '" + c + "'");
 }
 
+NormalSearchMethod NormalSearchMethodFrom(const Args& args, NormalSearchMethod fallback) {
+  const std::string m = args.Get("normals-search", NormalSearchMethodName(fallback));
+  if (const std::optional<NormalSearchMethod> method = ParseNormalSearchMethod(m)) return *method;
+  throw UserError("--normals-search", "must be 'grid' or 'quadratic', got '" + m + "'");
+}
+
 // The sample: a built-in one (--sample) or one described in a file (--sample-labels,
 // --sample-weights), whose size is then the file's.
 sim::MixedSample SampleFrom(const Args& args, const std::vector<std::string>& names, int w, int h,
@@ -159,7 +165,10 @@ int ReconstructSynthetic(const Argv& argv) {
                                   "normals-criterion",
                                   "normals-score-min-cos",
                                   "normals-evidence",
-                                  "normals-estimated-min-cos"};
+                                  "normals-estimated-min-cos",
+                                  "normals-search",
+                                  "normals-levels",
+                                  "normals-coarse-reach"};
   valued.insert(kGeometryOptions.begin(), kGeometryOptions.end());
   const Args args("acq reconstruct synthetic", argv, valued,
                   {"ignore-near-field", "truth-tables", "score", "quiet", "normals"});
@@ -231,6 +240,9 @@ int ReconstructSynthetic(const Argv& argv) {
       args.GetDouble("normals-estimated-min-cos", r.normals.estimated_min_cos, 0, 0.9);
   r.normals.score_min_cos =
       args.GetDouble("normals-score-min-cos", r.normals.score_min_cos, 0, 0.9);
+  r.normals.method = NormalSearchMethodFrom(args, r.normals.method);
+  r.normals.levels = args.GetInt("normals-levels", r.normals.levels, 0, 12);
+  r.normals.coarse_reach = args.GetInt("normals-coarse-reach", r.normals.coarse_reach, 1, 4);
   r.progress = !args.Has("quiet");
   SvbrdfMapInfo info;
   info.basis = basis_path;
