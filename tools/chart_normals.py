@@ -1,5 +1,6 @@
 #!/usr/bin/python3
-"""Charts tools/study_normals.sh's CSV: normal error, false tilt and map error per search."""
+"""Charts tools/study_normals.sh's CSVs: normal error, false tilt and map error per search
+criterion; and, given the second CSV, each search method's time against its normal error."""
 import csv
 import sys
 
@@ -62,5 +63,30 @@ def main(path, out):
     print("wrote " + out)
 
 
+def search_chart(path, out):
+    rows = list(csv.DictReader(open(path)))
+    fig, ax = plt.subplots(figsize=(7, 4.6))
+    for method, colour in (("grid", "tab:blue"), ("quadratic", "tab:green")):
+        pts = [r for r in rows if r["method"] == method]
+        for key, style, what in (("normal_error_relief_deg", "s-", "over the relief"),
+                                 ("one_material_deg", "o:", "over relief of one material")):
+            ax.plot([float(r["search_seconds"]) for r in pts], [float(r[key]) for r in pts], style,
+                    color=colour, label=method + ", " + what)
+        for r in pts:
+            ax.annotate("L%s r%s" % (r["levels"], r["coarse_reach"]),
+                        (float(r["search_seconds"]), float(r["normal_error_relief_deg"])),
+                        fontsize=6, xytext=(3, 3), textcoords="offset points")
+    ax.axhline(2.0, color="k", lw=0.4)
+    ax.set_xlabel("search time (s, 65,536 pixels, 2 cores)")
+    ax.set_ylabel("median normal error (deg)")
+    ax.set_title("normal search: time against error (L: refinement levels, r: coarse reach)", fontsize=9)
+    ax.legend(fontsize=7)
+    fig.tight_layout()
+    fig.savefig(out, dpi=110)
+    print("wrote " + out)
+
+
 if __name__ == "__main__":
     main(sys.argv[1], sys.argv[2])
+    if len(sys.argv) > 4:
+        search_chart(sys.argv[3], sys.argv[4])

@@ -6,7 +6,9 @@
 # the default), over relief slopes and noise levels; single materials (a glossy brass, a matte
 # white paint, a dark fabric, a mirror-like chrome) with a raised border; and the card through
 # the pooled reconstruction. Prints one CSV line per run and charts normal error, false tilt and
-# map error (tools/chart_normals.py).
+# map error (tools/chart_normals.py). Then the search methods' price: the embossed card at
+# 256 x 256 with 2% noise searched by each method and depth, the search's own time against its
+# normal error (search.csv, chart search.png).
 # usage: tools/study_normals.sh BASIS OUT_DIR
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -42,4 +44,23 @@ done
 run flat card --method independent --relief-deg 0.01
 run pooled card --relief-deg 10
 run pooled flat-card --relief-deg 0.01
-/usr/bin/python3 tools/chart_normals.py "$csv" "$out/normals.png"
+
+search_csv=$out/search.csv
+echo "method,levels,coarse_reach,search_seconds,normal_error_relief_deg,one_material_deg,ink_edges_deg,false_tilt_flat_deg,map_error" > "$search_csv"
+search() {  # METHOD LEVELS REACH: one reconstruction of the 256 x 256 card
+  local log
+  log=$($acq reconstruct synthetic --basis "$basis" --directions data/directions/seed_directions_20.tsv \
+    --size 256x256 --fov-deg 4 --relief-deg 10 --noise 0.02 -o "$out/map.exr" --score --quiet --normals \
+    --normals-search "$1" --normals-levels "$2" --normals-coarse-reach "$3" 2>&1)
+  local seconds=$(sed -n 's/^normals: .* \([0-9.]*\) s$/\1/p' <<<"$log")
+  local relief=$(sed -n 's/^score: normals: median angular error \([0-9.na]*\) deg.*/\1/p' <<<"$log")
+  local one=$(sed -n 's/.*flat; \([0-9.na]*\) over [0-9]* of one material.*/\1/p' <<<"$log")
+  local edges=$(sed -n 's/.*of one material, \([0-9.na]*\) over .*/\1/p' <<<"$log")
+  local flat=$(sed -n 's/.*median false tilt \([0-9.na]*\) deg.*/\1/p' <<<"$log")
+  local err=$(sed -n 's/^score: median per-pixel log-space RMSE against the ground truth: \([0-9.]*\).*/\1/p' <<<"$log")
+  echo "$1,$2,$3,$seconds,$relief,$one,$edges,$flat,$err" | tee -a "$search_csv"
+}
+for levels in 3 4 5 6; do search grid "$levels" 1; done
+search grid 6 2
+for levels in 3 4 5; do search quadratic "$levels" 1; done
+/usr/bin/python3 tools/chart_normals.py "$csv" "$out/normals.png" "$search_csv" "$out/search.png"

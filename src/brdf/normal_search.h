@@ -62,7 +62,9 @@ struct NormalSearchOptions {
   // 3 x 3 (kQuadratic). docs/reconstruction.md, "Normals", measures both.
   NormalSearchMethod method = NormalSearchMethod::kGrid;
   int levels = 0;        // refinements after the coarse grid; 0: the method's default
-  int coarse_reach = 2;  // the coarse grid: (2 reach + 1)^2 slopes, spaced half the cone
+  // The coarse grid: (2 reach + 1)^2 slopes spaced half the cone. 1 (3 x 3, reaching the cone by
+  // the refinements) found the same normals as 2 (5 x 5) in every case of the study, 13% sooner.
+  int coarse_reach = 1;
   int Levels() const { return levels > 0 ? levels : method == NormalSearchMethod::kGrid ? 6 : 3; }
   // A view or light at or below this cosine to a candidate facet is not used. 0: only those
   // behind it; anything more drops the grazing views the flat solve uses (the seed paper's set

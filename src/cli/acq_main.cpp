@@ -83,7 +83,7 @@ const std::map<std::string, Command>& Commands() {
         "    [--normals-max-tilt-deg 25] [--normals-prior 0.05] [--normals-k 8]\n"
         "    [--normals-criterion fit|held-out|centre] [--normals-score-min-cos 0]\n"
         "    [--normals-evidence 1] [--normals-estimated-min-cos 0]\n"
-        "    [--normals-search grid|quadratic] [--normals-levels N] [--normals-coarse-reach 2]]\n"
+        "    [--normals-search grid|quadratic] [--normals-levels N] [--normals-coarse-reach 1]]\n"
         "  Reconstructs a synthetic printed card from observations made straight from the\n"
         "  ground truth, per pixel, into an SVBRDF map (docs/svbrdf-map.md); --score compares\n"
         "  every pixel with its true material. --method pooled groups the pixels by material\n"
