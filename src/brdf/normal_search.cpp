@@ -320,6 +320,9 @@ namespace {
 // scored, for the evidence test.
 struct ChunkSearch {
   std::vector<Candidate> best, flat;
+  // The candidate the data alone prefer (lowest misfit, the prior left out): on the cone's edge,
+  // the relief is too steep for the search even where the prior pulled the best inside.
+  std::vector<Candidate> by_data;
 };
 
 // The minimum of the quadratic through a 3 x 3 grid of scores f[a + 1][b + 1] at offsets
@@ -360,11 +363,14 @@ ChunkSearch SearchChunk(const BasisView& basis, const PixelObservations& obs, in
     return scored;
   };
   const auto keep_best = [&](int p, const std::vector<Candidate>& scored) {
-    for (const Candidate& cand : scored)
-      if (cand.score < c.best[p].score && cand.views >= c.flat[p].views - kViewsItMayLose)
-        c.best[p] = cand;
+    for (const Candidate& cand : scored) {
+      if (cand.views < c.flat[p].views - kViewsItMayLose) continue;
+      if (cand.score < c.best[p].score) c.best[p] = cand;
+      if (cand.misfit < c.by_data[p].misfit) c.by_data[p] = cand;
+    }
   };
   c.best.assign(count, Candidate{Eigen::Vector2f::Zero()});
+  c.by_data = c.best;
   c.flat.resize(count);
   const bool quadratic = o.method == NormalSearchMethod::kQuadratic;
   // Per pixel, the last level's 3 x 3 scores around the best it started from.
@@ -450,7 +456,7 @@ PixelNormals EstimateNormals(const BasisView& basis, PixelObservations* obs,
       // No centre explains the pixel even at its best normal: nothing to judge the normal by.
       if (by_centre && best.misfit > reference->groups[best.group].misfit_limit) continue;
       // A minimum on the cone's edge is not a minimum: the true tilt may lie beyond.
-      if (best.slope.norm() >= cone * 0.98f) {
+      if (best.slope.norm() >= cone * 0.98f || c.by_data[p].slope.norm() >= cone * 0.98f) {
         out.status[first + p] = NormalStatus::kRefused;
         continue;
       }

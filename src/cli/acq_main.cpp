@@ -80,7 +80,7 @@ const std::map<std::string, Command>& Commands() {
         "    [--method pooled|independent] [--groups 0] [--max-groups 64] [--sample-pixels 8192]\n"
         "    [--sample card|blend|marble|text | --sample-labels PNG|EXR | --sample-weights EXR]\n"
         "    [--relief-deg S [--fibre-deg F] | --height-map EXR|PNG] [--normals\n"
-        "    [--normals-max-tilt-deg 25] [--normals-prior 0.05] [--normals-k 8]\n"
+        "    [--normals-max-tilt-deg 25] [--normals-prior 0.5] [--normals-k 8]\n"
         "    [--normals-criterion fit|held-out|centre] [--normals-score-min-cos 0]\n"
         "    [--normals-evidence 1] [--normals-estimated-min-cos 0]\n"
         "    [--normals-search grid|quadratic] [--normals-levels N] [--normals-coarse-reach 1]]\n"
