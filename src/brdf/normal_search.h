@@ -4,11 +4,12 @@
 // `components` coefficients gives the misfit there, and the normal minimises
 //   residual(n) + prior * tan^2(tilt(n)),
 // the prior keeping it near the sample's normal where the data say little. The search is
-// coarse-to-fine on the slope (tan(tilt) cos(azimuth), tan(tilt) sin(azimuth)): a 5 x 5 grid over
-// the cone of `max_tilt_deg`, then `levels` 3 x 3 refinements each halving the step. Each level
-// is one batch of the ordinary per-pixel solver (pixel_solver.h), one pseudo-pixel per
-// candidate. The chosen normal's observations replace the pixel's, so any reconstruction
-// (independent or pooled) then solves in the facet's frame.
+// coarse-to-fine on the slope (tan(tilt) cos(azimuth), tan(tilt) sin(azimuth)): a coarse grid
+// over the cone of `max_tilt_deg` (3 x 3 by default), then 3 x 3 refinements each halving the
+// step (NormalSearchMethod). Each level scores every pixel's candidates in one batch (by the
+// per-pixel solver, or by the material groups' centres). The chosen normal's observations
+// replace the pixel's, so any reconstruction (independent or pooled) then solves in the
+// facet's frame.
 #pragma once
 
 #include <cstdint>
