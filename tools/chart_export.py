@@ -8,6 +8,9 @@
                                                exposure for all: the 99th percentile of the first
                                                at 0.9)
   chart_export.py compare A.exr B.exr          relative RMS of A against B
+  chart_export.py scaled A.exr B.exr OUT.exr   A times the least-squares scale onto B (a
+                                               renderer whose light is in other units), that
+                                               scale and the relative RMS after it
 Run with the project's .venv python (Mitsuba reads the EXRs, matplotlib is Debian's).
 """
 import json
@@ -74,8 +77,19 @@ def compare(a, b):
     print(f"{np.sqrt(((x - y) ** 2).sum() / (y ** 2).sum()):.5f}")
 
 
+def scaled(a, b, out):
+    import mitsuba as mi
+    import numpy as np
+    x, y = read(a), read(b)
+    k = (x * y).sum() / max((x * x).sum(), 1e-300)
+    mi.Bitmap((x * k).astype(np.float32)).write(out)
+    print(f"scale {k:.6g}, relative RMS after it {np.sqrt(((k * x - y) ** 2).sum() / (y ** 2).sum()):.5f}")
+
+
 if __name__ == "__main__":
-    if sys.argv[1] == "fit":
+    if sys.argv[1] == "scaled":
+        scaled(sys.argv[2], sys.argv[3], sys.argv[4])
+    elif sys.argv[1] == "fit":
         chart_fit(sys.argv[2], sys.argv[3])
     elif sys.argv[1] == "side":
         side_by_side(sys.argv[2:-1], sys.argv[-1])

@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
 # Installs every Debian 12 package the build, the tests and the benchmark scripts need.
 # Idempotent: apt-get install skips what is present; safe to re-run.
+#   tools/setup.sh [--blender]   --blender: also Debian's Blender (300 MB), which only
+#                                tools/study_export.sh's picture of the glTF in Blender needs
 set -euo pipefail
 
 packages=(
@@ -21,6 +23,13 @@ packages=(
   # acqctl serve (the live view: docs/live-view.md) and its test in a real browser
   libcpp-httplib-dev chromium
 )
+
+for arg in "$@"; do
+  case $arg in
+    --blender) packages+=(blender) ;;
+    *) echo "setup: unknown option '$arg' (the only one is --blender)" >&2; exit 2 ;;
+  esac
+done
 
 sudo_cmd=()
 if [ "$(id -u)" -ne 0 ]; then sudo_cmd=(sudo); fi

@@ -8,7 +8,9 @@
 #      fitted maps against the measured map, a chart (fit_price.png);
 #   3. the fitted maps in Mitsuba's principled BSDF against our evaluation of the same maps;
 #   4. side-by-side pictures for the README (docs/images/export_*.png);
-#   5. the time to fit a 1-megapixel map (a 1024 x 1024 synthetic card).
+#   5. the glTF imported into Blender and rendered with Cycles at the same light and camera, its
+#      light's units scaled onto Mitsuba's principled render of the same maps (if installed);
+#   6. the time to fit a 1-megapixel map (a 1024 x 1024 synthetic card).
 # usage: tools/study_export.sh [OUT]   (default out/study/export)
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -44,7 +46,21 @@ $py tools/chart_export.py side "$out/ours.exr" "$out/mitsuba_16spp.exr" "$out/pr
   docs/images/export_renders.png
 cp "$out/fit_price.png" docs/images/export_fit_price.png
 
-echo "== 5. the time to fit a 1-megapixel map =="
+echo "== 5. the glTF in Blender (Cycles), when Blender is installed (tools/setup.sh --blender) =="
+if command -v blender > /dev/null; then
+  blender -b --factory-startup -P tools/render_blender.py -- "$out/pbr/material.gltf" \
+    "$out/blender_raw.exr" --spp 64 > "$out/blender.log" 2>&1 || { tail "$out/blender.log"; exit 1; }
+  echo "  Blender against Mitsuba's principled BSDF, both the fitted maps: $($py tools/chart_export.py \
+    scaled "$out/blender_raw.exr" "$out/principled.exr" "$out/blender.exr")"
+  echo "  Blender against acq render view of the measured map: relative RMS" \
+    "$($py tools/chart_export.py compare "$out/blender.exr" "$out/ours.exr")"
+  $py tools/chart_export.py side "$out/ours.exr" "$out/principled.exr" "$out/blender.exr" \
+    docs/images/export_blender.png
+else
+  echo "  skipped: no blender on PATH"
+fi
+
+echo "== 6. the time to fit a 1-megapixel map =="
 $acq reconstruct synthetic --basis out/main/basis116.acqb --directions out/main/optimized20.tsv \
   --size 1024x1024 --fov-deg 4 --method independent -o "$out/card1024.exr" --quiet > /dev/null
 /usr/bin/time -f "  peak memory %M KB" $acq export pbr --map "$out/card1024.exr" -o "$out/pbr1024" --quiet

@@ -1,0 +1,86 @@
+"""Renders `acq export pbr`'s glTF in Blender (Cycles, CPU) at the geometry of `acq render view`'s
+defaults: the camera 1 m above the sample's centre looking straight down, a point light 1 m
+away at zenith --light-theta-deg and azimuth --light-phi-deg. Writes a linear EXR (for
+tools/chart_export.py). The glTF is imported as a user would (File > Import > glTF 2.0).
+
+  blender -b --factory-startup -P tools/render_blender.py -- GLTF OUT.exr
+      [--light-theta-deg 30] [--light-phi-deg 0] [--width 256] [--spp 64]
+
+Runs inside Blender's own Python (bpy); Blender comes from Debian (tools/setup-renderers.sh
+--blender). docs/export.md, "Opening the export".
+"""
+import argparse
+import math
+import sys
+
+import bpy
+
+DISTANCE_M = 1.0  # acq render view: camera and light arms of 1000 mm
+
+
+def parse():
+    argv = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
+    p = argparse.ArgumentParser(prog="render_blender.py")
+    p.add_argument("gltf")
+    p.add_argument("out")
+    p.add_argument("--light-theta-deg", type=float, default=30)
+    p.add_argument("--light-phi-deg", type=float, default=0)
+    p.add_argument("--width", type=int, default=256)
+    p.add_argument("--spp", type=int, default=64)
+    return p.parse_args(argv)
+
+
+def import_sample(path):
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    bpy.ops.import_scene.gltf(filepath=path)
+    meshes = [o for o in bpy.context.scene.objects if o.type == "MESH"]
+    if len(meshes) != 1:
+        raise SystemExit(f"render_blender.py: {path}: expected one mesh (the sample), got {len(meshes)}")
+    return meshes[0]
+
+
+def add_camera(scene, sample):
+    data = bpy.data.cameras.new("camera")
+    data.sensor_fit = "HORIZONTAL"
+    data.angle = 2 * math.atan(sample.dimensions.x / 2 / DISTANCE_M)
+    camera = bpy.data.objects.new("camera", data)
+    camera.location = (0, 0, DISTANCE_M)  # Blender's camera looks down its -Z: straight down
+    scene.collection.objects.link(camera)
+    scene.camera = camera
+
+
+def add_light(scene, theta_deg, phi_deg):
+    t, p = math.radians(theta_deg), math.radians(phi_deg)
+    data = bpy.data.lights.new("light", type="POINT")
+    data.shadow_soft_size = 0  # a point, as ours
+    data.energy = 1000
+    light = bpy.data.objects.new("light", data)
+    light.location = (DISTANCE_M * math.sin(t) * math.cos(p), DISTANCE_M * math.sin(t) * math.sin(p),
+                      DISTANCE_M * math.cos(t))
+    scene.collection.objects.link(light)
+
+
+def main():
+    a = parse()
+    sample = import_sample(a.gltf)
+    scene = bpy.context.scene
+    add_camera(scene, sample)
+    add_light(scene, a.light_theta_deg, a.light_phi_deg)
+    scene.world = bpy.data.worlds.new("black")
+    scene.world.color = (0, 0, 0)
+    scene.render.engine = "CYCLES"
+    scene.cycles.device = "CPU"
+    scene.cycles.samples = a.spp
+    scene.cycles.use_denoising = False
+    scene.render.resolution_x = a.width
+    scene.render.resolution_y = max(1, round(a.width * sample.dimensions.y / sample.dimensions.x))
+    scene.render.resolution_percentage = 100
+    scene.view_settings.view_transform = "Standard"
+    scene.render.image_settings.file_format = "OPEN_EXR"
+    scene.render.image_settings.color_depth = "32"
+    scene.render.filepath = a.out
+    bpy.ops.render.render(write_still=True)
+    print(f"wrote {a.out}")
+
+
+main()
