@@ -2,7 +2,8 @@
 """The export test's checks that need the renderers' Python tools (.venv): run by test_export.sh.
 
   export_checks.py pbr DIR             MaterialX validation of DIR/material.mtlx; the fit error
-                                       map finite, the converged plane 0/1, fit.json consistent
+                                       map finite, the converged plane 0/1, fit.json consistent;
+                                       the glTF quad's orientation (not mirrored, facing +Y)
   export_checks.py mitsuba DIR TOL     DIR/render.py's render against DIR/ours.exr (acq render
                                        view): relative RMS under TOL
 """
@@ -43,8 +44,41 @@ def check_pbr(folder):
         report = json.load(f)
     if not (0 <= report["median_log_rmse"] < 10) or report["pixels"] != pixels.shape[0] * pixels.shape[1]:
         sys.exit(f"fit.json inconsistent: {report}")
+    check_gltf_orientation(folder)
     print(f"MaterialX: valid ({materials[0]}); fit error median {report['median_log_rmse']:.3f}, "
-          f"{report['not_converged']} not converged")
+          f"{report['not_converged']} not converged; glTF quad not mirrored, facing +Y")
+
+
+def gltf_accessor(gltf, buffer, index):
+    import numpy as np
+    accessor = gltf["accessors"][index]
+    view = gltf["bufferViews"][accessor["bufferView"]]
+    dtype, width = {5126: (np.float32, 4), 5123: (np.uint16, 2)}[accessor["componentType"]]
+    n = {"SCALAR": 1, "VEC2": 2, "VEC3": 3}[accessor["type"]]
+    start = view.get("byteOffset", 0) + accessor.get("byteOffset", 0)
+    return np.frombuffer(buffer, dtype, accessor["count"] * n, start).reshape(-1, n)
+
+
+def check_gltf_orientation(folder):
+    """The map's first texel (its top-left: the sample's -x, +y as the reference camera sees it)
+    must lie at glTF's -X, -Z (the sample's y is glTF's -Z), and every triangle face +Y: else a
+    renderer shows the sample mirrored (Blender's import of the first export did)."""
+    import numpy as np
+    with open(os.path.join(folder, "material.gltf")) as f:
+        gltf = json.load(f)
+    with open(os.path.join(folder, gltf["buffers"][0]["uri"]), "rb") as f:
+        buffer = f.read()
+    primitive = gltf["meshes"][0]["primitives"][0]
+    position = gltf_accessor(gltf, buffer, primitive["attributes"]["POSITION"])
+    uv = gltf_accessor(gltf, buffer, primitive["attributes"]["TEXCOORD_0"])
+    indices = gltf_accessor(gltf, buffer, primitive["indices"]).reshape(-1, 3)
+    corner = position[np.argmin(uv[:, 0] + uv[:, 1])]
+    if not (corner[0] < 0 and corner[2] < 0):
+        sys.exit(f"material.gltf: the texture's top-left corner lies at {corner}, expected -X, -Z")
+    for a, b, c in indices:
+        facing = np.cross(position[b] - position[a], position[c] - position[a])
+        if not facing[1] > 0:
+            sys.exit(f"material.gltf: triangle {a} {b} {c} faces {facing}, expected +Y")
 
 
 def check_mitsuba(folder, tolerance):

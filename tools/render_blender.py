@@ -14,6 +14,13 @@ import math
 import sys
 
 import bpy
+import numpy
+
+# Debian 12's Blender 3.4 glTF importer calls numpy.bool, which Debian's numpy 1.24 no longer
+# has (the alias was deprecated in 1.20): it fails on any glTF with "module 'numpy' has no
+# attribute 'bool'". The alias restored for this process only.
+if "bool" not in numpy.__dict__:
+    numpy.bool = bool
 
 DISTANCE_M = 1.0  # acq render view: camera and light arms of 1000 mm
 

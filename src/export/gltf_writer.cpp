@@ -20,22 +20,25 @@ struct Quad {
   std::array<float, 12> positions;
   std::array<float, 12> normals;
   std::array<float, 8> uvs;
-  std::array<std::uint16_t, 6> indices{0, 1, 2, 0, 2, 3};  // counter-clockwise seen from +Y
+  std::array<std::uint16_t, 6> indices{0, 2, 1, 0, 3, 2};  // counter-clockwise seen from +Y
 };
 
 Quad MakeQuad(double width_m, double height_m) {
   Quad q;
-  // Corners in the sample's frame (x right, y down the map's rows), counter-clockwise seen from
-  // the normal; sample x -> glTF X, sample y -> glTF -Z, the sample's normal -> glTF +Y.
-  const double xs[4] = {-0.5, 0.5, 0.5, -0.5}, ys[4] = {-0.5, -0.5, 0.5, 0.5};
+  // Corners by map column and row (x right, r down the rows). The map's rows run towards the
+  // sample's -y (the reference camera looks straight down with its image x along the sample's
+  // x: calib::CamFromSampleLookingAtCentre), so the sample's x -> glTF X, its y -> glTF -Z (a
+  // row r -> +Z) and its normal -> glTF +Y: seen from above, the quad shows the sample as the
+  // camera did, not mirrored. Blender's import showed the mirror image when rows went to -Z.
+  const double xs[4] = {-0.5, 0.5, 0.5, -0.5}, rs[4] = {-0.5, -0.5, 0.5, 0.5};
   for (int i = 0; i < 4; ++i) {
-    const double x = xs[i] * width_m, y = ys[i] * height_m;
+    const double x = xs[i] * width_m, r = rs[i] * height_m;
     q.positions[3 * i] = float(x);
     q.positions[3 * i + 1] = 0;
-    q.positions[3 * i + 2] = float(-y);
+    q.positions[3 * i + 2] = float(r);
     q.normals[3 * i] = 0, q.normals[3 * i + 1] = 1, q.normals[3 * i + 2] = 0;
     q.uvs[2 * i] = float(xs[i] + 0.5);
-    q.uvs[2 * i + 1] = float(ys[i] + 0.5);
+    q.uvs[2 * i + 1] = float(rs[i] + 0.5);  // glTF's v runs down the image, as the rows do
   }
   return q;
 }
