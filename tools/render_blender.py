@@ -4,7 +4,7 @@ away at zenith --light-theta-deg and azimuth --light-phi-deg. Writes a linear EX
 tools/chart_export.py). The glTF is imported as a user would (File > Import > glTF 2.0).
 
   blender -b --factory-startup -P tools/render_blender.py -- GLTF OUT.exr
-      [--light-theta-deg 30] [--light-phi-deg 0] [--width 256] [--spp 64]
+      [--light-theta-deg 30] [--light-phi-deg 0] [--width 256] [--spp 64] [--seed 0]
 
 Runs inside Blender's own Python (bpy); Blender comes from Debian (tools/setup-renderers.sh
 --blender). docs/export.md, "Opening the export".
@@ -34,6 +34,7 @@ def parse():
     p.add_argument("--light-phi-deg", type=float, default=0)
     p.add_argument("--width", type=int, default=256)
     p.add_argument("--spp", type=int, default=64)
+    p.add_argument("--seed", type=int, default=0)  # Cycles' sampling seed
     return p.parse_args(argv)
 
 
@@ -78,6 +79,7 @@ def main():
     scene.render.engine = "CYCLES"
     scene.cycles.device = "CPU"
     scene.cycles.samples = a.spp
+    scene.cycles.seed = a.seed
     scene.cycles.use_denoising = False
     scene.render.resolution_x = a.width
     scene.render.resolution_y = max(1, round(a.width * sample.dimensions.y / sample.dimensions.x))

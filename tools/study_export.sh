@@ -52,6 +52,10 @@ if command -v blender > /dev/null; then
     "$out/blender_raw.exr" --spp 64 > "$out/blender.log" 2>&1 || { tail "$out/blender.log"; exit 1; }
   echo "  Blender against Mitsuba's principled BSDF, both the fitted maps: $($py tools/chart_export.py \
     scaled "$out/blender_raw.exr" "$out/principled.exr" "$out/blender.exr")"
+  blender -b --factory-startup -P tools/render_blender.py -- "$out/pbr/material.gltf" \
+    "$out/blender_seed1.exr" --spp 64 --seed 1 > /dev/null 2>&1
+  echo "  Cycles' noise, two seeds at 64 spp: relative RMS" \
+    "$($py tools/chart_export.py compare "$out/blender_seed1.exr" "$out/blender_raw.exr")"
   echo "  Blender against acq render view of the measured map: relative RMS" \
     "$($py tools/chart_export.py compare "$out/blender.exr" "$out/ours.exr")"
   $py tools/chart_export.py side "$out/ours.exr" "$out/principled.exr" "$out/blender.exr" \
