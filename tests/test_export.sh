@@ -59,6 +59,24 @@ check "glTF passes the Khronos validator with no errors" \
 check "MaterialX document passes MaterialX's validation; fit error map finite" \
   "$python" "$root/tests/export_checks.py" pbr "$tmp/pbr"
 
+# A map with estimated normals (an embossed card): normal.png, the glTF's normalTexture with
+# the quad's tangents, the MaterialX normal map; both still valid.
+"$acq" reconstruct synthetic --basis "$tmp/b.acqb" --directions "$data/directions/seed_directions_20.tsv" \
+  --materials-dir "$data/nbrdf/merl" --materials white-paint,brass,black-fabric --size 40x40 --k 8 \
+  --fov-deg 4 --relief-deg 10 --normals --quiet -o "$tmp/normals.exr" >/dev/null \
+  || { echo "FAIL: reconstruction with normals"; exit 1; }
+check "export pbr of a map with normals" "$acq" export pbr --map "$tmp/normals.exr" -o "$tmp/pbr-normals" --quiet
+check "its normal map is written and referenced by the glTF and the MaterialX document" \
+  "$python" -c "import json, sys; g = json.load(open('$tmp/pbr-normals/material.gltf'));
+t = g['materials'][0]['normalTexture']['index']; assert g['images'][t]['uri'] == 'normal.png', g['images']
+assert 'TANGENT' in g['meshes'][0]['primitives'][0]['attributes']
+assert 'normal.png' in open('$tmp/pbr-normals/material.mtlx').read()
+assert 'normalTexture' not in json.load(open('$tmp/pbr/material.gltf'))['materials'][0]"
+check "the glTF with a normal map passes the Khronos validator with no errors" \
+  node "$root/tests/gltf_validate.js" "$validator" "$tmp/pbr-normals/material.gltf"
+check "the MaterialX document with a normal map passes MaterialX's validation" \
+  "$python" "$root/tests/export_checks.py" pbr "$tmp/pbr-normals"
+
 # Mitsuba: our plugin's render against our renderer, both lookups and two light poses. The
 # point light makes the render deterministic but for where each sample falls in its pixel
 # (4 spp, a box filter: the directions move by under a pixel's angle, 0.3 mrad).

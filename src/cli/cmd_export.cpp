@@ -6,6 +6,7 @@
 #include <map>
 #include <nlohmann/json.hpp>
 
+#include "acq/map_render.h"
 #include "acq/pbr_maps.h"
 #include "acq/validation.h"
 #include "brdf/evaluation.h"
@@ -143,8 +144,11 @@ int ExportPbr(const Argv& argv) {
   const std::string name = args.Get("name", MaterialName(args.Get("map")));
   const double width_mm = m.map.info.width * m.map.info.pixel_size_mm;
   const double height_mm = m.map.info.height * m.map.info.pixel_size_mm;
-  WriteGltf(dir, width_mm, height_mm, name);
-  WriteMaterialX(dir, name);
+  // The normals the reconstruction estimated (issue 19), as the renderers' normal maps.
+  const bool normal_map = HasEstimatedNormals(m.map);
+  if (normal_map) WriteNormalPng(m.map, dir + "/" + PbrTextureNames::kNormal);
+  WriteGltf(dir, width_mm, height_mm, name, normal_map);
+  WriteMaterialX(dir, name, normal_map);
 
   std::vector<double> valid_errors, f0;
   long converged = 0;
@@ -194,11 +198,12 @@ int ExportPbr(const Argv& argv) {
       std::printf("  validation %-24s relative RMS: map %.4f, fitted %.4f (%.2fx)\n",
                   v["view"].get<std::string>().c_str(), v["map_relative_rms"].get<double>(),
                   v["fitted_relative_rms"].get<double>(), v["ratio"].get<double>());
-  std::printf("wrote %s/{%s,%s,%s,%s,%s,%s,%s,%s,%s,fit.json}\n", dir.c_str(), kGltfFile,
+  std::printf("wrote %s/{%s,%s,%s,%s,%s,%s,%s,%s,%s,%sfit.json}\n", dir.c_str(), kGltfFile,
               kGltfBuffer, kMaterialXFile, PbrTextureNames::kBaseColor,
               PbrTextureNames::kMetallicRoughness, PbrTextureNames::kSpecular,
               PbrTextureNames::kRoughness, PbrTextureNames::kFitError,
-              PbrTextureNames::kFitErrorPng);
+              PbrTextureNames::kFitErrorPng,
+              normal_map ? (std::string(PbrTextureNames::kNormal) + ",").c_str() : "");
   return 0;
 }
 

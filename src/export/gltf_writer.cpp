@@ -15,11 +15,15 @@ namespace {
 // glTF's dielectric F0 at its default ior 1.5: ((1.5 - 1) / (1.5 + 1))^2.
 constexpr double kGltfDielectricF0 = 0.04;
 
-// The quad's interleaved-free buffer: positions, normals, UVs (float), then 6 indices (u16).
+// The quad's interleaved-free buffer: positions, normals, UVs (float), 6 indices (u16), then
+// tangents (float).
 struct Quad {
   std::array<float, 12> positions;
   std::array<float, 12> normals;
   std::array<float, 8> uvs;
+  // +X, handedness +1: the bitangent normal x tangent = -Z is the sample's +y, the textures' up
+  // (given, so that the normal map does not depend on a renderer's generated tangents).
+  std::array<float, 16> tangents{1, 0, 0, 1, 1, 0, 0, 1, 1, 0, 0, 1, 1, 0, 0, 1};
   std::array<std::uint16_t, 6> indices{0, 2, 1, 0, 3, 2};  // counter-clockwise seen from +Y
 };
 
@@ -45,17 +49,20 @@ Quad MakeQuad(double width_m, double height_m) {
 
 }  // namespace
 
-void WriteGltf(const std::string& dir, double width_mm, double height_mm, const std::string& name) {
+void WriteGltf(const std::string& dir, double width_mm, double height_mm, const std::string& name,
+               bool normal_map) {
   using nlohmann::json;
   const Quad q = MakeQuad(width_mm / 1000, height_mm / 1000);
   const std::size_t pos = 0, nrm = sizeof(q.positions), uv = nrm + sizeof(q.normals);
-  const std::size_t idx = uv + sizeof(q.uvs), total = idx + sizeof(q.indices);
+  const std::size_t idx = uv + sizeof(q.uvs), tan = idx + sizeof(q.indices);
+  const std::size_t total = tan + sizeof(q.tangents);
   {
     std::ofstream bin(dir + "/" + kGltfBuffer, std::ios::binary);
     bin.write(reinterpret_cast<const char*>(q.positions.data()), sizeof(q.positions));
     bin.write(reinterpret_cast<const char*>(q.normals.data()), sizeof(q.normals));
     bin.write(reinterpret_cast<const char*>(q.uvs.data()), sizeof(q.uvs));
     bin.write(reinterpret_cast<const char*>(q.indices.data()), sizeof(q.indices));
+    bin.write(reinterpret_cast<const char*>(q.tangents.data()), sizeof(q.tangents));
     if (!bin) throw UserError(dir + "/" + kGltfBuffer, "could not be written", "check the folder");
   }
   const float hx = float(width_mm / 2000), hz = float(height_mm / 2000);
@@ -65,9 +72,10 @@ void WriteGltf(const std::string& dir, double width_mm, double height_mm, const 
   gltf["scene"] = 0;
   gltf["scenes"] = json::array({{{"name", name}, {"nodes", json::array({0})}}});
   gltf["nodes"] = json::array({{{"name", name}, {"mesh", 0}}});
-  json primitive = {{"attributes", {{"POSITION", 0}, {"NORMAL", 1}, {"TEXCOORD_0", 2}}},
-                    {"indices", 3},
-                    {"material", 0}};
+  json primitive = {
+      {"attributes", {{"POSITION", 0}, {"NORMAL", 1}, {"TEXCOORD_0", 2}, {"TANGENT", 4}}},
+      {"indices", 3},
+      {"material", 0}};
   gltf["meshes"] = json::array({{{"name", name}, {"primitives", json::array({primitive})}}});
   gltf["buffers"] = json::array({{{"uri", kGltfBuffer}, {"byteLength", total}}});
   auto view = [](std::size_t offset, std::size_t bytes, int target) {
@@ -76,7 +84,8 @@ void WriteGltf(const std::string& dir, double width_mm, double height_mm, const 
   constexpr int kArrayBuffer = 34962, kElementArrayBuffer = 34963;
   gltf["bufferViews"] = json::array(
       {view(pos, sizeof(q.positions), kArrayBuffer), view(nrm, sizeof(q.normals), kArrayBuffer),
-       view(uv, sizeof(q.uvs), kArrayBuffer), view(idx, sizeof(q.indices), kElementArrayBuffer)});
+       view(uv, sizeof(q.uvs), kArrayBuffer), view(idx, sizeof(q.indices), kElementArrayBuffer),
+       view(tan, sizeof(q.tangents), kArrayBuffer)});
   constexpr int kFloat = 5126, kUnsignedShort = 5123;
   auto accessor = [](int view, int type, int count, const char* kind) {
     return json{{"bufferView", view}, {"componentType", type}, {"count", count}, {"type", kind}};
@@ -86,7 +95,7 @@ void WriteGltf(const std::string& dir, double width_mm, double height_mm, const 
   position["max"] = json::array({hx, 0.0f, hz});
   gltf["accessors"] =
       json::array({position, accessor(1, kFloat, 4, "VEC3"), accessor(2, kFloat, 4, "VEC2"),
-                   accessor(3, kUnsignedShort, 6, "SCALAR")});
+                   accessor(3, kUnsignedShort, 6, "SCALAR"), accessor(4, kFloat, 4, "VEC4")});
   gltf["images"] = json::array({{{"uri", PbrTextureNames::kBaseColor}},
                                 {{"uri", PbrTextureNames::kMetallicRoughness}},
                                 {{"uri", PbrTextureNames::kSpecular}}});
@@ -96,8 +105,10 @@ void WriteGltf(const std::string& dir, double width_mm, double height_mm, const 
                                    {"minFilter", kNearest},
                                    {"wrapS", kClampToEdge},
                                    {"wrapT", kClampToEdge}}});
+  if (normal_map) gltf["images"].push_back({{"uri", PbrTextureNames::kNormal}});
   gltf["textures"] = json::array();
-  for (int i = 0; i < 3; ++i) gltf["textures"].push_back({{"sampler", 0}, {"source", i}});
+  for (std::size_t i = 0; i < gltf["images"].size(); ++i)
+    gltf["textures"].push_back({{"sampler", 0}, {"source", i}});
   const double f = 1 / kGltfDielectricF0;
   json material = {{"name", name},
                    {"pbrMetallicRoughness",
@@ -109,6 +120,9 @@ void WriteGltf(const std::string& dir, double width_mm, double height_mm, const 
       {"specularFactor", 1.0},
       {"specularColorFactor", json::array({f, f, f})},
       {"specularColorTexture", {{"index", 2}}}};
+  // The map's rows run to +Z and its texture's up is the sample's +y, which the quad's
+  // tangent frame (tangent +X, bitangent normal x tangent = -Z) makes the normal map's +Y.
+  if (normal_map) material["normalTexture"] = {{"index", 3}};
   gltf["materials"] = json::array({material});
   const std::string path = dir + "/" + kGltfFile;
   std::ofstream out(path);

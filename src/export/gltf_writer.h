@@ -13,6 +13,8 @@ inline constexpr const char* kGltfFile = "material.gltf";
 inline constexpr const char* kGltfBuffer = "quad.bin";
 
 // Throws UserError naming the file when one cannot be written.
-void WriteGltf(const std::string& dir, double width_mm, double height_mm, const std::string& name);
+// `normal_map`: reference normal.png (pbr_textures.h) as the material's normalTexture.
+void WriteGltf(const std::string& dir, double width_mm, double height_mm, const std::string& name,
+               bool normal_map);
 
 }  // namespace acq

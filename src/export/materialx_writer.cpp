@@ -19,7 +19,7 @@ std::string Identifier(const std::string& name) {
 
 }  // namespace
 
-void WriteMaterialX(const std::string& dir, const std::string& name) {
+void WriteMaterialX(const std::string& dir, const std::string& name, bool normal_map) {
   using N = PbrTextureNames;
   const std::string id = Identifier(name);
   const std::string path = dir + "/" + kMaterialXFile;
@@ -72,6 +72,14 @@ void WriteMaterialX(const std::string& dir, const std::string& name) {
   binary("add", "ior_above", "float", "value=\"1.0\"", "nodename=\"sqrt_f0\"");
   binary("subtract", "ior_below", "float", "value=\"1.0\"", "nodename=\"sqrt_f0\"");
   binary("divide", "ior", "float", "nodename=\"ior_above\"", "nodename=\"ior_below\"");
+  if (normal_map)
+    out << "    <image name=\"normal_texture\" type=\"vector3\">\n"
+        << "      <input name=\"file\" type=\"filename\" value=\"" << N::kNormal << "\" />\n"
+        << "    </image>\n"
+        << "    <normalmap name=\"normal\" type=\"vector3\">\n"
+        << "      <input name=\"in\" type=\"vector3\" nodename=\"normal_texture\" />\n"
+        << "    </normalmap>\n"
+        << "    <output name=\"normal_out\" type=\"vector3\" nodename=\"normal\" />\n";
   for (const char* o : {"basecolor", "roughness", "tint", "ior"}) {
     const bool colour = std::string(o) == "basecolor" || std::string(o) == "tint";
     out << "    <output name=\"" << o << "_out\" type=\"" << (colour ? "color3" : "float")
@@ -90,8 +98,11 @@ void WriteMaterialX(const std::string& dir, const std::string& name) {
       << "    <input name=\"specular_roughness\" type=\"float\" nodegraph=\"" << graph
       << "\" output=\"roughness_out\" />\n"
       << "    <input name=\"specular_IOR\" type=\"float\" nodegraph=\"" << graph
-      << "\" output=\"ior_out\" />\n"
-      << "  </standard_surface>\n"
+      << "\" output=\"ior_out\" />\n";
+  if (normal_map)
+    out << "    <input name=\"normal\" type=\"vector3\" nodegraph=\"" << graph
+        << "\" output=\"normal_out\" />\n";
+  out << "  </standard_surface>\n"
       << "  <surfacematerial name=\"" << id << "\" type=\"material\">\n"
       << "    <input name=\"surfaceshader\" type=\"surfaceshader\" nodename=\"SR_" << id
       << "\" />\n"

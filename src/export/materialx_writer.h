@@ -15,6 +15,7 @@ inline constexpr const char* kMaterialXFile = "material.mtlx";
 
 // `name`: the material's name (letters, digits and underscores are kept, others become '_').
 // Throws UserError naming the file when it cannot be written.
-void WriteMaterialX(const std::string& dir, const std::string& name);
+// `normal_map`: the shader's normal from normal.png (a normalmap node, tangent space).
+void WriteMaterialX(const std::string& dir, const std::string& name, bool normal_map);
 
 }  // namespace acq

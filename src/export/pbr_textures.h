@@ -6,6 +6,9 @@
 //                           Mitsuba's principled BSDF)
 //   fit_error.exr           planes log_rmse, converged, valid (float, one a pixel)
 //   fit_error.png           log_rmse in grey (0 to the 99th percentile), red where not converged
+//   normal.png              the map's estimated normals when it has them (acq/map_render.h's
+//                           WriteNormalPng): tangent space, (n + 1) / 2, linear; R along the
+//                           sample's x (the texture's right), G along its y (the texture's up)
 // Texture row 0 is the map's row 0 (glTF's v = 0 at the image's first row).
 #pragma once
 
@@ -22,6 +25,7 @@ struct PbrTextureNames {
   static constexpr const char* kRoughness = "roughness.png";
   static constexpr const char* kFitError = "fit_error.exr";
   static constexpr const char* kFitErrorPng = "fit_error.png";
+  static constexpr const char* kNormal = "normal.png";
 };
 
 // Throws UserError naming the file when one cannot be written.
