@@ -7,6 +7,7 @@
 #include <filesystem>
 
 #include "acq/correspondence_source.h"
+#include "acq/height_from_normals.h"
 #include "acq/map_render.h"
 #include "acq/reconstruction_job.h"
 #include "brdf/basis_rows.h"
@@ -1017,6 +1018,38 @@ TEST_CASE("relief too steep for the search: refused or estimated, never NaN", "[
   }
   for (float v : obs.rgb) CHECK_FALSE(std::isinf(v));
   CHECK(refused > 0);
+}
+
+TEST_CASE("a height map integrated from the normals is the relief's", "[normals]") {
+  sim::SyntheticSvbrdf scene = sim::MakeCardLayout(96, 80, 10.0, 3, 1);
+  sim::ReliefOptions relief;
+  relief.slope_deg = 10;
+  relief.fibre_deg = 2;
+  const std::vector<float> truth = sim::CardRelief(scene, relief);
+  sim::SetNormalsFromHeight(&scene, truth);
+  // The synthetic card's rows run to its +y; a map's (the reference camera's) to the sample's -y,
+  // the convention HeightFromNormals takes: the same surface has n.y negated.
+  std::vector<Eigen::Vector3f> normals = scene.normal;
+  for (Eigen::Vector3f& n : normals) n.y() = -n.y();
+  const std::vector<float> height = HeightFromNormals(normals, scene.width, scene.height);
+  REQUIRE(height.size() == truth.size());
+  double mean_truth = 0, mean_height = 0;
+  for (std::size_t i = 0; i < truth.size(); ++i) mean_truth += truth[i], mean_height += height[i];
+  mean_truth /= double(truth.size()), mean_height /= double(truth.size());
+  double sxy = 0, sxx = 0, syy = 0, err2 = 0;
+  for (std::size_t i = 0; i < truth.size(); ++i) {
+    const double a = truth[i] - mean_truth, b = height[i] - mean_height;
+    REQUIRE(std::isfinite(b));
+    sxy += a * b, sxx += a * a, syy += b * b, err2 += (a - b) * (a - b);
+  }
+  // Frankot-Chellappa takes the map as periodic, which costs a little near the edges; measured:
+  // correlation 0.998, RMS error 0.063 of the relief's RMS. With n.y not negated (the rows' sense
+  // wrong) the correlation is -0.25.
+  const double correlation = sxy / std::sqrt(sxx * syy);
+  INFO("correlation " << correlation << ", RMS error / RMS relief " << std::sqrt(err2 / sxx));
+  CHECK(correlation > 0.95);
+  CHECK(std::sqrt(err2 / sxx) < 0.35);
+  CHECK_THROWS_AS(HeightFromNormals(normals, scene.width + 1, scene.height), UserError);
 }
 
 TEST_CASE("a height map of the wrong size is refused, naming both sizes", "[normals]") {

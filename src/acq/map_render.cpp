@@ -6,6 +6,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "acq/height_from_normals.h"
 #include "brdf/normal_search.h"
 #include "brdf/pooled_model.h"
 #include "core/angles.h"
@@ -224,6 +225,26 @@ void WriteNormalPng(const SvbrdfMap& map, const std::string& path) {
   if (!cv::imwrite(path, out)) throw UserError(path, "cannot write PNG");
 }
 
+// The height integrated from the normals (height_from_normals.h) in grey, lowest black, highest
+// white, 8 bits linear: a relief's shape at a glance; its scale is in the map's normals.
+void WriteHeightPng(const SvbrdfMap& map, const std::string& path) {
+  const int w = map.info.width, h = map.info.height;
+  std::vector<Eigen::Vector3f> normals(std::size_t(w) * std::size_t(h));
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x)
+      normals[std::size_t(y) * w + x] = {map.Plane("normal.x", x, y), map.Plane("normal.y", x, y),
+                                         map.Plane("normal.z", x, y)};
+  const std::vector<float> height = HeightFromNormals(normals, w, h);
+  const auto [lo, hi] = std::minmax_element(height.begin(), height.end());
+  const double range = *hi - *lo;
+  cv::Mat out(h, w, CV_8UC1);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x)
+      out.at<uchar>(y, x) = cv::saturate_cast<uchar>(
+          range > 0 ? (height[std::size_t(y) * w + x] - *lo) / range * 255 : 128);
+  if (!cv::imwrite(path, out)) throw UserError(path, "cannot write PNG");
+}
+
 void WriteRgbExr(const RgbImage& image, const std::string& path) {
   FloatPlanes planes;
   planes.width = image.width;
@@ -278,7 +299,8 @@ std::vector<std::string> WriteQuickLooks(const SvbrdfMap& map, const BasisView& 
   }
   if (HasEstimatedNormals(map)) {
     WriteNormalPng(map, stem + "normal.png");
-    names.push_back("normal");
+    WriteHeightPng(map, stem + "height.png");
+    names.insert(names.end(), {"normal", "height"});
   }
   return names;
 }

@@ -73,6 +73,10 @@ bool HasEstimatedNormals(const SvbrdfMap& map);
 // The map's normals as a PNG in the usual normal-map colour convention, (n + 1) / 2, linear.
 void WriteNormalPng(const SvbrdfMap& map, const std::string& path);
 
+// The height integrated from the map's normals (height_from_normals.h) as a grey PNG, lowest
+// black, highest white.
+void WriteHeightPng(const SvbrdfMap& map, const std::string& path);
+
 // The quick looks of a map into `dir` as `prefix`NAME.png: the BRDF at a diffuse-looking and at
 // a mirror configuration (diffuse, specular), and the diagnostics (valid, observations,
 // condition, residual; group and departure for a pooled map; normal where normals were
