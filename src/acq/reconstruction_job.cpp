@@ -1,5 +1,6 @@
 #include "acq/reconstruction_job.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 
@@ -33,6 +34,47 @@ PixelObservations ReadSample(ObservationSource& source, const ReconstructionOpti
   return source.Pixels(indices, options.band_rows);
 }
 
+// A pixel whose normal was estimated but which no group of the map's model explains (the pooled
+// solve left it alone) goes back to the sample's normal and is solved again as read
+// (NormalStatus::kAssumed): its normal was judged by a centre that the final model rejects, and
+// alone in a tilted frame its coefficients extrapolate wildly (the embossed card through acqd:
+// 20 such pixels held 99% of a validation view's squared error; docs/reconstruction.md,
+// "Normals"). Returns how many went back.
+long RevertUnexplainedNormals(const BasisView& basis, const PixelObservations& as_read,
+                              const PooledModel& model, const PixelSolveOptions& solve,
+                              PixelNormals* normals, PixelSolution* solution) {
+  std::vector<int> back;
+  for (int p = 0; p < as_read.pixels; ++p)
+    if (normals->status[p] == NormalStatus::kEstimated && solution->group[p] < 0) back.push_back(p);
+  if (back.empty()) return 0;
+  PixelObservations again;
+  again.Resize(int(back.size()), as_read.views);  // width 0: rows not shared between them
+  for (std::size_t i = 0; i < back.size(); ++i)
+    for (int v = 0; v < as_read.views; ++v) {
+      const std::size_t from = as_read.At(back[i], v), to = again.At(int(i), v);
+      again.light[to] = as_read.light[from];
+      again.camera[to] = as_read.camera[from];
+      std::copy_n(&as_read.rgb[3 * from], 3, &again.rgb[3 * to]);
+    }
+  PixelSolution redone;
+  const std::size_t k3 = 3 * std::size_t(solution->components);
+  redone.Resize(again.pixels, solution->components);
+  SolvePixelsPooled(basis, again, model, solve, &redone);
+  for (std::size_t i = 0; i < back.size(); ++i) {
+    const std::size_t p = std::size_t(back[i]);
+    std::copy_n(&redone.coefficients[i * k3], k3, &solution->coefficients[p * k3]);
+    solution->valid[p] = redone.valid[i];
+    solution->observations[p] = redone.observations[i];
+    solution->condition[p] = redone.condition[i];
+    solution->residual[p] = redone.residual[i];
+    solution->group[p] = redone.group[i];
+    solution->departure[p] = redone.departure[i];
+    normals->normal[p] = Eigen::Vector3f::UnitZ();
+    normals->status[p] = NormalStatus::kAssumed;
+  }
+  return long(back.size());
+}
+
 }  // namespace
 
 void ReconstructionOptions::Check(const BasisView& basis) const {
@@ -63,8 +105,8 @@ void ReconstructionReport::Print() const {
   if (normals_estimated + normals_refused + normals_no_evidence > 0 || normal_seconds > 0)
     std::printf(
         "normals: %ld estimated, %ld refused, %ld without evidence for a tilt (the sample's "
-        "normal kept); %.2f s\n",
-        normals_estimated, normals_refused, normals_no_evidence, normal_seconds);
+        "normal kept), %ld taken back (no group explains them); %.2f s\n",
+        normals_estimated, normals_refused, normals_no_evidence, normals_reverted, normal_seconds);
   std::printf("time: %.3f s solving, %.2f s in all: %.3f megapixels/s\n", solve_seconds,
               total_seconds, total_seconds > 0 ? double(pixels) / total_seconds / 1e6 : 0.0);
 }
@@ -114,7 +156,9 @@ ReconstructionReport Reconstruct(const BasisView& basis, ObservationSource& sour
     const int rows = std::min(options.band_rows, h - y0);
     PixelObservations obs = source.Rows(y0, rows);
     const auto normal_start = Clock::now();
-    const PixelNormals normals =
+    const bool revert = pooled && options.normals.enabled;
+    const PixelObservations as_read = revert ? obs : PixelObservations();
+    PixelNormals normals =
         EstimateNormals(basis, &obs, options.solve, options.normals, &normals_reference);
     report.normal_seconds += std::chrono::duration<double>(Clock::now() - normal_start).count();
     PixelSolution solution;
@@ -124,6 +168,9 @@ ReconstructionReport Reconstruct(const BasisView& basis, ObservationSource& sour
       SolvePixelsPooled(basis, obs, report.model, options.solve, &solution);
     else
       SolvePixels(basis, obs, options.solve, &solution);
+    if (revert)
+      report.normals_reverted += RevertUnexplainedNormals(basis, as_read, report.model,
+                                                          options.solve, &normals, &solution);
     report.solve_seconds += std::chrono::duration<double>(Clock::now() - solve_start).count();
     // Pixel-major solution -> one plane per channel for the map.
     const std::size_t n = std::size_t(obs.pixels);

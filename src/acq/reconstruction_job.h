@@ -33,6 +33,7 @@ struct ReconstructionReport {
   double model_seconds = 0;  // kPooled: reading the sample and fitting the model
   long normals_estimated = 0, normals_refused = 0;  // normals.enabled
   long normals_no_evidence = 0;  // a tilt found that did not earn its keep (NormalStatus)
+  long normals_reverted = 0;     // kPooled: estimated, but no group explains them: kAssumed
   double normal_seconds = 0;
   double solve_seconds = 0, total_seconds = 0;
   void Print() const;
