@@ -933,7 +933,7 @@ TEST_CASE("normals of an embossed glossy card are recovered; flat areas stay fla
   search.prior = 2;
   // The material groups the search judges by, fitted on the card's pixels taken as flat, as
   // the reconstruction fits them on its sample.
-  const PooledModel reference = FitNormalReference(d.basis.View(), obs, PerPixel(), search, {});
+  const PooledModel reference = FitNormalReference(d.basis.View(), obs, PerPixel(), {});
   const PixelNormals normals =
       EstimateNormals(d.basis.View(), &obs, PerPixel(), search, &reference);
   std::vector<double> relief_error, flat_error, assumed_error;
@@ -968,7 +968,7 @@ TEST_CASE("a view the centre fits badly cannot be dropped by tilting away from i
       sim::SyntheticObservations(scene, {d.continuous[0]}, d.views, {}, 0, int(scene.label.size()));
   NormalSearchOptions search;
   search.enabled = true;
-  const PooledModel reference = FitNormalReference(d.basis.View(), obs, PerPixel(), search, {});
+  const PooledModel reference = FitNormalReference(d.basis.View(), obs, PerPixel(), {});
   // The most grazing light (88.75 degrees from the normal at the centre): every pixel's value
   // there made 4x too bright, which no centre fits; dropping the view by a tilt that puts the
   // light behind the facet would lower the misfit by far more than the prior costs.
@@ -1006,7 +1006,7 @@ TEST_CASE("relief too steep for the search: refused or estimated, never NaN", "[
                                                      d.views, {}, 0, int(scene.label.size()));
   NormalSearchOptions search;
   search.enabled = true;
-  const PooledModel reference = FitNormalReference(d.basis.View(), obs, PerPixel(), search, {});
+  const PooledModel reference = FitNormalReference(d.basis.View(), obs, PerPixel(), {});
   const PixelNormals normals =
       EstimateNormals(d.basis.View(), &obs, PerPixel(), search, &reference);
   int refused = 0;

@@ -428,9 +428,7 @@ ChunkSearch SearchChunk(const BasisView& basis, const PixelObservations& obs, in
 }  // namespace
 
 PooledModel FitNormalReference(const BasisView& basis, const PixelObservations& sample,
-                               const PixelSolveOptions& solve,
-                               const NormalSearchOptions& /*options*/,
-                               const PooledOptions& pooled) {
+                               const PixelSolveOptions& solve, const PooledOptions& pooled) {
   PooledOptions reference = pooled;
   reference.centre_eta_fractions = {1, 1.0 / 4, 1.0 / 16, 1.0 / 64, 1.0 / 256};
   return FitPooledModel(basis, sample, solve, reference);

@@ -109,8 +109,7 @@ struct PixelNormals {
 // dark fabric at 4 degrees: 1 degree of false tilt, its map 0.85 against 0.50 flat); one
 // barely regularised extrapolates wildly to the directions a tilted candidate asks about.
 PooledModel FitNormalReference(const BasisView& basis, const PixelObservations& sample,
-                               const PixelSolveOptions& solve, const NormalSearchOptions& options,
-                               const PooledOptions& pooled);
+                               const PixelSolveOptions& solve, const PooledOptions& pooled);
 
 // Chooses every pixel's normal and rewrites `observations` into its facet's frame (pixels
 // refused, assumed or without evidence keep theirs), each candidate scored by
