@@ -33,34 +33,49 @@ struct Candidate {
 // makes it) and the pixel was seen lit. Scored as a prediction of zero, the view costs the
 // candidate its mapped observation's height above the mapping's floor. Otherwise tilting away
 // from the one view a material's centre fits worst (a grazing light) lowers the RMS misfit.
+// Computed once a chunk (pixels [first, first + count)), charged for every candidate.
 struct DarkViews {
-  std::vector<double> cost;  // per view: squared mapped residual of zero, 3 channels; NaN: unseen
-  ViewRows rows;             // scratch
-  void Prepare(const BasisView& basis, const PixelObservations& obs, int pixel, RowLookup lookup) {
-    rows.SampleInLanes(basis, obs, pixel, 1, lookup);
-    cost.assign(obs.views, std::numeric_limits<double>::quiet_NaN());
-    for (int v = 0; v < obs.views; ++v) {
-      const float* rgb = &obs.rgb[3 * obs.At(pixel, v)];
-      if (!(rows.ok[v] && std::isfinite(rgb[0]) && std::isfinite(rgb[1]) && std::isfinite(rgb[2])))
-        continue;
-      const BasisSample& b = rows.samples[v];
-      double sum = 0;
-      for (int c = 0; c < 3; ++c)
-        sum += std::pow(MapBrdf(rgb[c], b.cos_weight, b.ref) - MapBrdf(0, b.cos_weight, b.ref), 2);
-      cost[v] = sum;
+  int first = 0;
+  std::vector<double> cost;  // per pixel and view: squared mapped residual of zero, 3 channels;
+                             // NaN: not seen
+  DarkViews(const BasisView& basis, const PixelObservations& obs, int first, int count,
+            RowLookup lookup)
+      : first(first),
+        cost(std::size_t(count) * obs.views, std::numeric_limits<double>::quiet_NaN()) {
+#pragma omp parallel
+    {
+      ViewRows rows;
+#pragma omp for schedule(dynamic, 64)
+      for (int p = 0; p < count; ++p) {
+        rows.SampleInLanes(basis, obs, first + p, 1, lookup);
+        for (int v = 0; v < obs.views; ++v) {
+          const float* rgb = &obs.rgb[3 * obs.At(first + p, v)];
+          if (!(rows.ok[v] && std::isfinite(rgb[0]) && std::isfinite(rgb[1]) &&
+                std::isfinite(rgb[2])))
+            continue;
+          const BasisSample& b = rows.samples[v];
+          double sum = 0;
+          for (int c = 0; c < 3; ++c)
+            sum +=
+                std::pow(MapBrdf(rgb[c], b.cos_weight, b.ref) - MapBrdf(0, b.cos_weight, b.ref), 2);
+          cost[std::size_t(p) * obs.views + v] = sum;
+        }
+      }
     }
   }
-  // `misfit` (RMS over 3 x `views` values) with the views the facet `n` turns away from added.
+  // `misfit` (RMS over 3 x `views` values) of a candidate facet `n` of `pixel`, with the views
+  // it turns away from added.
   void Charge(const Eigen::Vector3f& n, const PixelObservations& obs, int pixel, double* misfit,
               int* views) const {
     const Eigen::Matrix3f r = FacetFromSample(n);
+    const double* pixel_cost = &cost[std::size_t(pixel - first) * obs.views];
     double sum = *misfit * *misfit * 3.0 * *views;
     int count = *views;
     for (int v = 0; v < obs.views; ++v) {
       const std::size_t i = obs.At(pixel, v);
-      if (std::isnan(cost[v])) continue;
+      if (std::isnan(pixel_cost[v])) continue;
       if ((r * obs.light[i]).z() > 0 && (r * obs.camera[i]).z() > 0) continue;
-      sum += cost[v];
+      sum += pixel_cost[v];
       ++count;
     }
     if (count > *views) *misfit = std::sqrt(sum / (3.0 * count)), *views = count;
@@ -72,7 +87,7 @@ struct DarkViews {
 void ScoreCandidates(const BasisView& basis, const PixelObservations& obs, int first, int count,
                      const std::vector<std::vector<Candidate>>& lists,
                      const PixelSolveOptions& solve, const NormalSearchOptions& o,
-                     std::vector<std::vector<Candidate>>* scored) {
+                     const DarkViews& dark, std::vector<std::vector<Candidate>>* scored) {
   int total = 0;
   for (const auto& l : lists) total += int(l.size());
   PixelObservations batch;
@@ -96,10 +111,8 @@ void ScoreCandidates(const BasisView& basis, const PixelObservations& obs, int f
   solution.Resize(total, o.components);
   SolvePixels(basis, batch, search, &solution);
   *scored = lists;
-  DarkViews dark;
   for (int i = 0; i < total; ++i) {
     const auto [p, c] = owner[i];
-    if (c == 0) dark.Prepare(basis, obs, first + p, solve.lookup);
     Candidate& cand = (*scored)[p][c];
     cand.views = solution.observations[i];
     // Not valid (too few views, too poorly conditioned, not finite): no score.
@@ -165,7 +178,7 @@ struct CentreScorer {
   ViewRows rows;
   std::vector<int> used;  // views usable at the candidate
   std::vector<double> y;  // their mapped observations less the mean, 3 a view
-  DarkViews dark;         // the pixel's views as a facet turned away from them scores them
+  const DarkViews& dark;  // the chunk's views as a facet turned away from them scores them
 
   // The observations in `one`, mapped, with the basis sampled at kc components.
   void Prepare(int kc) {
@@ -210,7 +223,6 @@ struct CentreScorer {
     one.Resize(1, obs.views);
     int kc = 0;
     for (int g : groups) kc = std::max(kc, model.groups[g].centre_components);
-    dark.Prepare(basis, obs, pixel, lookup);
     for (Candidate& cand : *candidates) {
       const Eigen::Vector3f n = NormalOfSlope(cand.slope.x(), cand.slope.y());
       ToFacetFrame(n, std::max(o.min_cos, o.score_min_cos), obs, pixel, &one, 0);
@@ -232,11 +244,11 @@ void ScoreAgainstCentres(const BasisView& basis, const PixelObservations& obs, i
                          const std::vector<std::vector<Candidate>>& lists,
                          const std::vector<std::vector<int>>& groups, const PooledModel& model,
                          const PixelSolveOptions& solve, const NormalSearchOptions& o,
-                         std::vector<std::vector<Candidate>>* scored) {
+                         const DarkViews& dark, std::vector<std::vector<Candidate>>* scored) {
   *scored = lists;
 #pragma omp parallel
   {
-    CentreScorer scorer{basis, model, solve.lookup, {}, {}, {}, {}, {}, {}, {}};
+    CentreScorer scorer{basis, model, solve.lookup, {}, {}, {}, {}, dark, {}, {}};
     scorer.CopyCentres();
 #pragma omp for schedule(dynamic, 16)
     for (int p = 0; p < count; ++p)
@@ -354,12 +366,14 @@ ChunkSearch SearchChunk(const BasisView& basis, const PixelObservations& obs, in
   std::vector<std::vector<int>> groups =
       reference ? NearestGroups(basis, obs, first, count, *reference, solve)
                 : std::vector<std::vector<int>>();
+  const DarkViews dark(basis, obs, first, count, solve.lookup);
   const auto score = [&](const std::vector<std::vector<Candidate>>& lists) {
     std::vector<std::vector<Candidate>> scored;
     if (reference)
-      ScoreAgainstCentres(basis, obs, first, count, lists, groups, *reference, solve, o, &scored);
+      ScoreAgainstCentres(basis, obs, first, count, lists, groups, *reference, solve, o, dark,
+                          &scored);
     else
-      ScoreCandidates(basis, obs, first, count, lists, solve, o, &scored);
+      ScoreCandidates(basis, obs, first, count, lists, solve, o, dark, &scored);
     return scored;
   };
   const auto keep_best = [&](int p, const std::vector<Candidate>& scored) {
