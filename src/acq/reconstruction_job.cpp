@@ -47,15 +47,7 @@ long RevertUnexplainedNormals(const BasisView& basis, const PixelObservations& a
   for (int p = 0; p < as_read.pixels; ++p)
     if (normals->status[p] == NormalStatus::kEstimated && solution->group[p] < 0) back.push_back(p);
   if (back.empty()) return 0;
-  PixelObservations again;
-  again.Resize(int(back.size()), as_read.views);  // width 0: rows not shared between them
-  for (std::size_t i = 0; i < back.size(); ++i)
-    for (int v = 0; v < as_read.views; ++v) {
-      const std::size_t from = as_read.At(back[i], v), to = again.At(int(i), v);
-      again.light[to] = as_read.light[from];
-      again.camera[to] = as_read.camera[from];
-      std::copy_n(&as_read.rgb[3 * from], 3, &again.rgb[3 * to]);
-    }
+  const PixelObservations again = as_read.Gather(back);
   PixelSolution redone;
   const std::size_t k3 = 3 * std::size_t(solution->components);
   redone.Resize(again.pixels, solution->components);

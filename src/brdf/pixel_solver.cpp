@@ -20,6 +20,18 @@ void PixelObservations::Resize(int p, int v) {
   rgb.assign(std::size_t(p) * v * 3, std::numeric_limits<float>::quiet_NaN());
 }
 
+PixelObservations PixelObservations::Gather(const std::vector<int>& which) const {
+  PixelObservations out;
+  out.Resize(int(which.size()), views);
+  for (std::size_t i = 0; i < which.size(); ++i) {
+    const std::size_t from = At(which[i], 0), to = out.At(int(i), 0);
+    std::copy_n(&light[from], views, &out.light[to]);
+    std::copy_n(&camera[from], views, &out.camera[to]);
+    std::copy_n(&rgb[3 * from], 3 * views, &out.rgb[3 * to]);
+  }
+  return out;
+}
+
 PixelObservations ObservationSource::Pixels(const std::vector<std::size_t>& indices,
                                             int band_rows) {
   const int w = Width(), h = Height();

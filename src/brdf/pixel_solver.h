@@ -27,6 +27,8 @@ struct PixelObservations {
 
   void Resize(int pixels, int views);
   std::size_t At(int pixel, int view) const { return std::size_t(pixel) * views + view; }
+  // The given pixels' observations, in that order (width 0: they share no rows).
+  PixelObservations Gather(const std::vector<int>& which) const;
 };
 
 // Where a reconstruction's observations come from, one band of reference-view rows at a time:
