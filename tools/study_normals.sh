@@ -17,6 +17,10 @@ mkdir -p "$out"
 acq=build/src/cli/acq
 csv=$out/normals.csv
 echo "case,value,search,map_error,normal_error_relief_deg,false_tilt_flat_deg,refused,no_evidence,seconds" > "$csv"
+# Figures read from `acq reconstruct synthetic --score`'s log on stdin (one place for its format).
+map_error() { sed -n 's/^score: median per-pixel log-space RMSE against the ground truth: \([0-9.]*\).*/\1/p'; }
+normal_error() { sed -n 's/^score: normals: median angular error \([0-9.na]*\) deg.*/\1/p'; }
+false_tilt() { sed -n 's/.*median false tilt \([0-9.na]*\) deg.*/\1/p'; }
 run() {  # CASE VALUE ARGS...: one reconstruction per search
   local case=$1 value=$2; shift 2
   for search in none fit centre; do
@@ -28,9 +32,7 @@ run() {  # CASE VALUE ARGS...: one reconstruction per search
       --size 128x128 --fov-deg 4 -o "$out/map.exr" --score --quiet "$@" "${flag[@]}" 2>&1)
     local ms=$((($(date +%s%N) - start) / 1000000))
     local seconds=$((ms / 1000)).$(printf %03d $((ms % 1000)))
-    local err=$(sed -n 's/^score: median per-pixel log-space RMSE against the ground truth: \([0-9.]*\).*/\1/p' <<<"$log")
-    local relief=$(sed -n 's/^score: normals: median angular error \([0-9.na]*\) deg.*/\1/p' <<<"$log")
-    local flat=$(sed -n 's/.*median false tilt \([0-9.na]*\) deg.*/\1/p' <<<"$log")
+    local err=$(map_error <<<"$log") relief=$(normal_error <<<"$log") flat=$(false_tilt <<<"$log")
     local refused=$(sed -n 's/^normals: [0-9]* estimated, \([0-9]*\) refused.*/\1/p' <<<"$log")
     local none=$(sed -n 's/^normals: .* refused, \([0-9]*\) without evidence.*/\1/p' <<<"$log")
     echo "$case,$value,$search,$err,${relief:-nan},${flat:-nan},${refused:-0},${none:-0},$seconds" | tee -a "$csv"
@@ -53,11 +55,9 @@ search() {  # METHOD LEVELS REACH: one reconstruction of the 256 x 256 card
     --size 256x256 --fov-deg 4 --relief-deg 10 --noise 0.02 -o "$out/map.exr" --score --quiet --normals \
     --normals-search "$1" --normals-levels "$2" --normals-coarse-reach "$3" 2>&1)
   local seconds=$(sed -n 's/^normals: .* \([0-9.]*\) s$/\1/p' <<<"$log")
-  local relief=$(sed -n 's/^score: normals: median angular error \([0-9.na]*\) deg.*/\1/p' <<<"$log")
   local one=$(sed -n 's/.*flat; \([0-9.na]*\) over [0-9]* of one material.*/\1/p' <<<"$log")
   local edges=$(sed -n 's/.*of one material, \([0-9.na]*\) over .*/\1/p' <<<"$log")
-  local flat=$(sed -n 's/.*median false tilt \([0-9.na]*\) deg.*/\1/p' <<<"$log")
-  local err=$(sed -n 's/^score: median per-pixel log-space RMSE against the ground truth: \([0-9.]*\).*/\1/p' <<<"$log")
+  local relief=$(normal_error <<<"$log") flat=$(false_tilt <<<"$log") err=$(map_error <<<"$log")
   echo "$1,$2,$3,$seconds,$relief,$one,$edges,$flat,$err" | tee -a "$search_csv"
 }
 for levels in 3 4 5 6; do search grid "$levels" 1; done
