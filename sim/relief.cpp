@@ -8,6 +8,7 @@
 #include "core/angles.h"
 #include "core/error.h"
 #include "core/facet_frame.h"
+#include "core/sample_grid.h"
 #include "io/float_planes_exr.h"
 
 namespace acq::sim {
@@ -132,7 +133,8 @@ void SetNormalsFromHeight(SyntheticSvbrdf* layout, const std::vector<float>& hei
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x) {
       const Eigen::Vector2f g = Gradient(height, w, h, x, y);
-      layout->normal[std::size_t(y) * w + x] = NormalOfSlope(-g.x(), -g.y());
+      const Eigen::Vector2d slope = SampleGrid::SlopeOf(g.x(), g.y());
+      layout->normal[std::size_t(y) * w + x] = NormalOfSlope(-float(slope.x()), -float(slope.y()));
     }
 }
 

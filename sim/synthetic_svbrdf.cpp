@@ -8,20 +8,19 @@
 
 namespace acq::sim {
 
+SampleGrid SyntheticSvbrdf::Grid() const {
+  return {width, height, sample_size_mm, sample_size_mm};
+}
+
 Eigen::Vector2d SyntheticSvbrdf::PointOf(int pixel) const {
-  const int x = pixel % width, y = pixel / width;
-  return {((x + 0.5) / width - 0.5) * sample_size_mm, ((y + 0.5) / height - 0.5) * sample_size_mm};
+  return Grid().CentreOf(pixel % width, pixel / width);
 }
 
 namespace {
 
 // The cell a sample-plane point falls in, row-major; -1 off the card.
 long CellAt(const SyntheticSvbrdf& s, const Eigen::Vector2d& p) {
-  if (!(s.sample_size_mm > 0) || !std::isfinite(p.x()) || !std::isfinite(p.y())) return -1;
-  const double x = std::floor((p.x() / s.sample_size_mm + 0.5) * s.width);
-  const double y = std::floor((p.y() / s.sample_size_mm + 0.5) * s.height);
-  if (x < 0 || y < 0 || x >= s.width || y >= s.height) return -1;
-  return long(y) * s.width + long(x);
+  return s.Grid().PixelAt(p);
 }
 
 }  // namespace

@@ -3,8 +3,8 @@
 // on until real correspondence maps exist.
 //
 // The reference view looks straight down at the sample centre; reference pixel (x, y) is the
-// sample point at ((x + 0.5) / width - 0.5) * size, ((y + 0.5) / height - 0.5) * size (x along
-// the sample frame's x, y along its y). Each view is a pair of arm poses at the near-field
+// centre of cell (x, y) of the sample's grid (core/sample_grid.h: columns along the sample
+// frame's x, rows along its -y, as a session's reference camera sees it). Each view is a pair of arm poses at the near-field
 // geometry's distances; a pixel's light and view directions are those from its own point.
 #pragma once
 
@@ -15,6 +15,7 @@
 #include "brdf/neural_brdf.h"
 #include "brdf/pixel_solver.h"
 #include "core/gantry_geometry.h"
+#include "core/sample_grid.h"
 
 namespace acq::sim {
 
@@ -25,6 +26,7 @@ struct SyntheticSvbrdf {
   // The true shading normal per pixel in the sample frame (relief.h); empty: flat. A pixel's
   // material is evaluated in its facet's frame (core/facet_frame.h).
   std::vector<Eigen::Vector3f> normal;
+  SampleGrid Grid() const;  // the cells as laid on the sample plane
   Eigen::Vector2d PointOf(int pixel) const;
   // The material under a sample-plane point (mm, the card centred at the origin): the label of
   // the cell it falls in, -1 off the card. The one rule the renderer and the scoring share.

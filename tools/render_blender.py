@@ -6,8 +6,8 @@ tools/chart_export.py). The glTF is imported as a user would (File > Import > gl
   blender -b --factory-startup -P tools/render_blender.py -- GLTF OUT.exr
       [--light-theta-deg 30] [--light-phi-deg 0] [--width 256] [--spp 64] [--seed 0]
 
-Runs inside Blender's own Python (bpy); Blender comes from Debian (tools/setup-renderers.sh
---blender). docs/export.md, "Opening the export".
+Runs inside Blender's own Python (bpy); Blender comes from Debian (tools/setup.sh
+--viewers). docs/export.md, "Opening the export".
 """
 import argparse
 import math

@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # Installs every Debian 12 package the build, the tests and the benchmark scripts need.
 # Idempotent: apt-get install skips what is present; safe to re-run.
-#   tools/setup.sh [--blender]   --blender: also Debian's Blender (300 MB), which only
-#                                tools/study_export.sh's picture of the glTF in Blender needs
+#   tools/setup.sh [--viewers]   --viewers: also Debian's Blender (300 MB) and Xvfb, which only
+#                                tools/study_export.sh's pictures of the exports in Blender and
+#                                in MaterialX's renderer need (--blender: the same, its old name)
 set -euo pipefail
 
 packages=(
@@ -26,8 +27,8 @@ packages=(
 
 for arg in "$@"; do
   case $arg in
-    --blender) packages+=(blender) ;;
-    *) echo "setup: unknown option '$arg' (the only one is --blender)" >&2; exit 2 ;;
+    --viewers | --blender) packages+=(blender xvfb xauth) ;;
+    *) echo "setup: unknown option '$arg' (the only one is --viewers)" >&2; exit 2 ;;
   esac
 done
 

@@ -5,6 +5,7 @@
 #include <opencv2/core.hpp>
 
 #include "core/error.h"
+#include "core/sample_grid.h"
 
 namespace acq {
 namespace {
@@ -15,9 +16,10 @@ const double kMaxSlope = std::tan(60 * kPi / 180);
 // The height's gradient along the columns (x) and down the rows that the normal n implies.
 cv::Vec2d GradientOf(const Eigen::Vector3f& n) {
   if (!n.allFinite() || !(n.z() > 0)) return {0, 0};
-  const double dx = -n.x() / n.z();
-  const double down = n.y() / n.z();  // down the rows is the sample's -y: dz/d(-y) = n.y / n.z
-  return {std::clamp(dx, -kMaxSlope, kMaxSlope), std::clamp(down, -kMaxSlope, kMaxSlope)};
+  // The slope along the sample's x and y, turned into the grid's columns and rows (the same
+  // flip takes either way).
+  const Eigen::Vector2d g = SampleGrid::SlopeOf(-n.x() / n.z(), -n.y() / n.z());
+  return {std::clamp(g.x(), -kMaxSlope, kMaxSlope), std::clamp(g.y(), -kMaxSlope, kMaxSlope)};
 }
 
 // 2 pi times the signed frequency of DFT index i of n.

@@ -13,6 +13,7 @@
 #include "core/colour.h"
 #include "core/error.h"
 #include "core/facet_frame.h"
+#include "core/sample_grid.h"
 #include "io/float_planes_exr.h"
 
 namespace acq {
@@ -20,8 +21,9 @@ namespace {
 
 // Sample point of a reference pixel: the reference view looks straight down at the centre.
 Eigen::Vector2d PointOf(const SvbrdfMap& map, int x, int y) {
-  return {(x + 0.5 - map.info.width / 2.0) * map.info.pixel_size_mm,
-          (y + 0.5 - map.info.height / 2.0) * map.info.pixel_size_mm};
+  const SampleGrid grid{map.info.width, map.info.height, map.info.width * map.info.pixel_size_mm,
+                        map.info.height * map.info.pixel_size_mm};
+  return grid.CentreOf(x, y);
 }
 
 void CheckBasis(const SvbrdfMap& map, const BasisView& basis) {

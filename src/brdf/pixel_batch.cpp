@@ -164,11 +164,12 @@ typename PixelBatch<T>::V PixelBatch<T>::HatValue(const V* q) {
 // Lanes in `skip` (no factor, or not loaded) are settled from the start.
 template <class T>
 void PixelBatch<T>::EstimateCondition(M skip, V* condition) {
-  constexpr int kMaxSteps = 12;
-  const T settled_tolerance = T(1e-5);
+  constexpr int kMaxSteps = ConditionIteration::kMaxSteps;
+  const T settled_tolerance = T(ConditionIteration::kSettled);
   const int k = k_;
+  const T cold = T(1 / std::sqrt(double(k)));
   if (int(largest_.size()) != k) {
-    largest_.assign(k, Splat<T>(T(1 / std::sqrt(double(k)))));
+    largest_.assign(k, Splat<T>(cold));
     smallest_ = largest_;
   }
   w_.resize(k);
@@ -205,10 +206,9 @@ void PixelBatch<T>::EstimateCondition(M skip, V* condition) {
   const M good = ~skip & (largest > T(0)) & (inverse > T(0)) & (largest < inf) & (inverse < inf);
   *condition = good ? Sqrt<T>(largest * inverse) : Splat<T>(inf);
   // A lane without an estimate starts cold next time, as the one-pixel estimator does.
-  const V cold = Splat<T>(T(1 / std::sqrt(double(k))));
   for (int i = 0; i < k; ++i) {
-    largest_[i] = good ? largest_[i] : cold;
-    smallest_[i] = good ? smallest_[i] : cold;
+    largest_[i] = good ? largest_[i] : Splat<T>(cold);
+    smallest_[i] = good ? smallest_[i] : Splat<T>(cold);
   }
 }
 

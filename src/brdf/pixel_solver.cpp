@@ -86,8 +86,8 @@ void PixelSolveOptions::Check(const BasisView& basis) const {
 // means nearly equal eigenvalues, whose quotient is then already close).
 double ConditionEstimator::Estimate(const Eigen::MatrixXd& a,
                                     const Eigen::LLT<Eigen::MatrixXd>& llt) {
-  constexpr int kMaxSteps = 12;
-  constexpr double kSettled = 1e-5;
+  constexpr int kMaxSteps = ConditionIteration::kMaxSteps;
+  constexpr double kSettled = ConditionIteration::kSettled;
   const Eigen::Index k = a.rows();
   if (largest_.size() != k) {
     largest_.setConstant(k, 1.0 / std::sqrt(double(k)));

@@ -75,7 +75,7 @@ class AcqSvbrdf(mi.BSDF):
 
     def texel(self, si):
         x = index_of(si.p.x / self.pixel_mm + self.width / 2, self.width)
-        y = index_of(si.p.y / self.pixel_mm + self.height / 2, self.height)
+        y = index_of(self.height / 2 - si.p.y / self.pixel_mm, self.height)  # rows along -y
         return mi.UInt32(y * self.width + x)
 
     def row(self, bin_index, active):

@@ -5,7 +5,7 @@ The scene is the instrument's: the sample a quad in z = 0 (millimetres, centred)
 at the light arm's pose and a pinhole camera at the camera arm's, as scene.json states; the
 point light's intensity makes a pixel's value rho cos(theta_i) / r^2 with r in metres, as
 `acq render view` computes it. With the camera overhead (the reference view) the image is in
-the map's pixels; it is flipped to the map's row order (the map's rows run along +y).
+the map's pixels (the map's rows run along the sample's -y: core/sample_grid.h).
 
   python render.py [--spp 4] [-o render.exr] [--variant llvm_ad_rgb] [--fitted PBR_DIR]
 
@@ -37,12 +37,15 @@ def direction(theta_deg, phi_deg):
     return [math.sin(t) * math.cos(p), math.sin(t) * math.sin(p), math.cos(t)]
 
 
-def principled(pbr_dir):
+def principled(mi, pbr_dir):
     """Mitsuba's principled BSDF from an `acq export pbr` folder's textures."""
     with open(os.path.join(pbr_dir, "fit.json")) as f:
         fit = json.load(f)
+    # The rectangle's v grows along +y; the textures' rows run along -y: v flipped.
+    rows_down = mi.ScalarTransform4f().translate([0, 1, 0]).scale([1, -1, 1])
     texture = lambda name, raw: {"type": "bitmap", "filename": os.path.join(pbr_dir, name),
-                                 "raw": raw, "filter_type": "nearest", "wrap_mode": "clamp"}
+                                 "raw": raw, "filter_type": "nearest", "wrap_mode": "clamp",
+                                 "to_uv": rows_down}
     return {"type": "principled", "base_color": texture("basecolor.png", False),
             "roughness": texture("roughness.png", True), "metallic": 0.0,
             "specular": min(max(fit["median_f0"] / 0.08, 0.0), 1.0)}
@@ -54,8 +57,8 @@ def scene_dict(mi, d, description, spp, bsdf=None):
     eye = [cam["distance_mm"] * v for v in direction(cam["theta_deg"], cam["phi_deg"])]
     light = [d["light"]["distance_mm"] * v for v in direction(d["light"]["theta_deg"],
                                                                d["light"]["phi_deg"])]
-    # Overhead, +y up in the image; the rows are flipped after rendering. Tilted, any up that
-    # is not along the view.
+    # Overhead, +y up in the image (the map's row 0 on top). Tilted, any up that is not along
+    # the view.
     up = [0, 1, 0] if abs(eye[0]) < 1e-9 and abs(eye[1]) < 1e-9 else [0, 0, 1]
     fov = math.degrees(2 * math.atan(w * px / 2 / cam["distance_mm"]))
     return {
@@ -103,14 +106,11 @@ def main():
     with open(args.description) as f:
         d = json.load(f)
     start = time.time()
-    bsdf = principled(args.fitted) if args.fitted else None
+    bsdf = principled(mi, args.fitted) if args.fitted else None
     scene = mi.load_dict(scene_dict(mi, d, args.description, args.spp, bsdf))
     image = mi.render(scene)
     import numpy as np
-    pixels = np.array(image)
-    if d["camera"]["theta_deg"] == 0:
-        pixels = pixels[::-1]
-    mi.Bitmap(np.ascontiguousarray(pixels)).write(args.output)
+    mi.Bitmap(np.ascontiguousarray(np.array(image))).write(args.output)
     print(f"wrote {args.output} ({d['width']} x {d['height']}, {args.spp} spp, "
           f"{time.time() - start:.1f} s)")
 
