@@ -4,8 +4,9 @@
 //
 // The reference view looks straight down at the sample centre; reference pixel (x, y) is the
 // centre of cell (x, y) of the sample's grid (core/sample_grid.h: columns along the sample
-// frame's x, rows along its -y, as a session's reference camera sees it). Each view is a pair of arm poses at the near-field
-// geometry's distances; a pixel's light and view directions are those from its own point.
+// frame's x, rows along its -y, as a session's reference camera sees it). Each view is a pair of
+// arm poses at the near-field geometry's distances; a pixel's light and view directions are those
+// from its own point.
 #pragma once
 
 #include <cstdint>

@@ -552,9 +552,9 @@ TEST_CASE("pixels solved in SIMD lanes equal pixels solved one at a time", "[pix
     WARN((single ? "float32" : "float64")
          << " lanes against one pixel at a time: coefficients of the " << coeff_diff.size()
          << " pixels solved in lanes median " << Median(coeff_diff) << ", worst " << worst_coeff
-         << " (relative); condition worst " << worst_condition << " (pixel " << worst_condition_pixel
-         << ", " << one.observations[std::size_t(worst_condition_pixel)] << " rows, "
-         << one.condition[std::size_t(worst_condition_pixel)] << " against "
+         << " (relative); condition worst " << worst_condition << " (pixel "
+         << worst_condition_pixel << ", " << one.observations[std::size_t(worst_condition_pixel)]
+         << " rows, " << one.condition[std::size_t(worst_condition_pixel)] << " against "
          << lanes.condition[std::size_t(worst_condition_pixel)] << "); residual worst "
          << worst_residual << "; validity differs at " << valid_differ << " of " << obs.pixels);
     if (!single) {
