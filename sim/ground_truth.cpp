@@ -1,5 +1,6 @@
 #include "sim/ground_truth.h"
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -11,7 +12,20 @@
 namespace acq::sim {
 namespace {
 
-constexpr const char* kFormat = "acq-ground-truth-1";
+// Version 2: the card's grid lies on the sample by core/sample_grid.h (rows to the sample's -y).
+// Version 1 (sessions simulated before 2026-12-03) ran its rows to +y: read, its rows are turned
+// over so that every stored cell keeps its place on the sample.
+constexpr const char* kFormat = "acq-ground-truth-2";
+constexpr const char* kFormatRowsUp = "acq-ground-truth-1";
+
+// Turns a row-major plane of `width` columns upside down.
+template <class T>
+void FlipRows(std::vector<T>* plane, int width) {
+  const std::size_t w = std::size_t(width), rows = w ? plane->size() / w : 0;
+  for (std::size_t r = 0; r < rows / 2; ++r)
+    std::swap_ranges(plane->begin() + long(r * w), plane->begin() + long((r + 1) * w),
+                     plane->begin() + long((rows - 1 - r) * w));
+}
 
 }  // namespace
 
@@ -48,8 +62,9 @@ GroundTruthFiles ReadGroundTruth(const std::string& dir) {
   const auto format = labels.attributes.find("acqFormat");
   const auto size = labels.attributes.find("sampleSizeMm");
   const auto material = labels.planes.find("material");
-  if (format == labels.attributes.end() || format->second != kFormat ||
-      size == labels.attributes.end() || material == labels.planes.end())
+  const bool known = format != labels.attributes.end() &&
+                     (format->second == kFormat || format->second == kFormatRowsUp);
+  if (!known || size == labels.attributes.end() || material == labels.planes.end())
     throw UserError(labels_path, "not the simulated card's ground truth (" + std::string(kFormat) +
                                      " with a material plane and sampleSizeMm)");
   GroundTruthFiles truth;
@@ -63,6 +78,10 @@ GroundTruthFiles ReadGroundTruth(const std::string& dir) {
     for (std::size_t i = 0; i < nx->second.size(); ++i)
       truth.card.normal.push_back(
           Eigen::Vector3f(nx->second[i], ny->second[i], nz->second[i]).normalized());
+  if (format->second == kFormatRowsUp) {  // the normals are sample-frame vectors: only moved
+    FlipRows(&truth.card.label, truth.card.width);
+    FlipRows(&truth.card.normal, truth.card.width);
+  }
   std::ifstream names(dir + "/materials.tsv");
   for (std::string line; std::getline(names, line);) {
     if (line.empty() || line[0] == '#') continue;

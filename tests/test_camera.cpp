@@ -391,4 +391,25 @@ TEST_CASE("sim camera: renders from where the simulated gantry holds the arms; a
   }
   CHECK(tilted > 0);
   CHECK(back.card.NormalAt({0, 0}) == back.card.normal[std::size_t(4 * 16 + 8)]);
+
+  // A session simulated before the row rule (format 1) ran its card's rows to the sample's +y:
+  // read back, every cell keeps its place on the sample, so scoring that session's map is still
+  // against its own card and not its mirror image.
+  FloatPlanes old = ReadFloatPlanesExr(tmp / "relief/ground_truth_labels.exr");
+  const std::size_t w = std::size_t(old.width), h = std::size_t(old.height);
+  for (const char* plane : {"material", "normal.x", "normal.y", "normal.z"}) {
+    std::vector<float>& v = old.planes.at(plane);
+    for (std::size_t r = 0; r < h / 2; ++r)  // the same cells, laid with rows to +y
+      std::swap_ranges(v.begin() + long(r * w), v.begin() + long((r + 1) * w),
+                       v.begin() + long((h - 1 - r) * w));
+  }
+  old.attributes["acqFormat"] = "acq-ground-truth-1";
+  WriteFloatPlanesExr(tmp / "relief/ground_truth_labels.exr", old);
+  const sim::GroundTruthFiles converted = sim::ReadGroundTruth(tmp / "relief");
+  CHECK(converted.card.label == card.card.label);
+  for (std::size_t i = 0; i < converted.card.normal.size(); ++i)
+    CHECK((converted.card.normal[i] - card.card.normal[i]).norm() < 1e-6);
+  old.attributes["acqFormat"] = "acq-ground-truth-9";
+  WriteFloatPlanesExr(tmp / "relief/ground_truth_labels.exr", old);
+  CHECK_THROWS_AS(sim::ReadGroundTruth(tmp / "relief"), UserError);
 }

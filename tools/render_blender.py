@@ -11,6 +11,7 @@ Runs inside Blender's own Python (bpy); Blender comes from Debian (tools/setup.s
 """
 import argparse
 import math
+import os
 import sys
 
 import bpy
@@ -22,7 +23,8 @@ import numpy
 if "bool" not in numpy.__dict__:
     numpy.bool = bool
 
-DISTANCE_M = 1.0  # acq render view: camera and light arms of 1000 mm
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from view_geometry import DISTANCE_M, add_arguments, light_position_m  # noqa: E402
 
 
 def parse():
@@ -30,9 +32,7 @@ def parse():
     p = argparse.ArgumentParser(prog="render_blender.py")
     p.add_argument("gltf")
     p.add_argument("out")
-    p.add_argument("--light-theta-deg", type=float, default=30)
-    p.add_argument("--light-phi-deg", type=float, default=0)
-    p.add_argument("--width", type=int, default=256)
+    add_arguments(p)
     p.add_argument("--spp", type=int, default=64)
     p.add_argument("--seed", type=int, default=0)  # Cycles' sampling seed
     return p.parse_args(argv)
@@ -58,13 +58,11 @@ def add_camera(scene, sample):
 
 
 def add_light(scene, theta_deg, phi_deg):
-    t, p = math.radians(theta_deg), math.radians(phi_deg)
     data = bpy.data.lights.new("light", type="POINT")
     data.shadow_soft_size = 0  # a point, as ours
     data.energy = 1000
     light = bpy.data.objects.new("light", data)
-    light.location = (DISTANCE_M * math.sin(t) * math.cos(p), DISTANCE_M * math.sin(t) * math.sin(p),
-                      DISTANCE_M * math.cos(t))
+    light.location = light_position_m(theta_deg, phi_deg)  # Blender's Z up is the sample's z
     scene.collection.objects.link(light)
 
 

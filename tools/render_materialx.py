@@ -14,7 +14,6 @@ docs/export.md, "Opening the export".
 """
 import argparse
 import json
-import math
 import os
 import sys
 
@@ -25,16 +24,15 @@ from MaterialX import PyMaterialXGenShader as mx_gen
 from MaterialX import PyMaterialXRender as mx_render
 from MaterialX import PyMaterialXRenderGlsl as mx_render_glsl
 
-DISTANCE_M = 1.0  # acq render view: camera and light arms of 1000 mm
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from view_geometry import DISTANCE_M, add_arguments, light_position_m  # noqa: E402
 
 
 def parse():
     p = argparse.ArgumentParser(prog="render_materialx.py")
     p.add_argument("pbr_dir")
     p.add_argument("out")
-    p.add_argument("--light-theta-deg", type=float, default=30)
-    p.add_argument("--light-phi-deg", type=float, default=0)
-    p.add_argument("--width", type=int, default=256)
+    add_arguments(p)
     return p.parse_args()
 
 
@@ -61,9 +59,7 @@ def point_light(stdlib, theta_deg, phi_deg):
     """The instrument's light: a point with inverse-square fall-off (decay_rate 2)."""
     lights = mx.createDocument()
     lights.setDataLibrary(stdlib)
-    t, p = math.radians(theta_deg), math.radians(phi_deg)
-    position = glTF_from_sample([DISTANCE_M * math.sin(t) * math.cos(p),
-                                 DISTANCE_M * math.sin(t) * math.sin(p), DISTANCE_M * math.cos(t)])
+    position = glTF_from_sample(light_position_m(theta_deg, phi_deg))
     light = lights.addNode("point_light", "light", "lightshader")
     light.setInputValue("position", mx.Vector3(*position))
     light.setInputValue("color", mx.Color3(1, 1, 1))
