@@ -25,6 +25,10 @@ struct MapScore {
   // The diffuse colour (pi f at DiffuseColourDirections(), as a reflectance) of each pixel
   // against its material's, CIEDE2000 (core/colour.h): median over the pixels.
   double albedo_delta_e2000_median = 0;
+  // Per true material: the median of its pixels' CIEDE2000 (as above), and the CIEDE2000 of its
+  // pixels' mean diffuse colour: a bias (a colour calibration's, a basis's) shows in the second,
+  // the per-pixel fit's noise only in the first.
+  std::vector<double> material_albedo_delta_e2000_median, material_albedo_mean_delta_e2000;
 };
 
 // The map's normals against the true ones (issue 19): the median angular error over the relief

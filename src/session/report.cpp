@@ -150,6 +150,8 @@ std::string SessionReport::Json() const {
       j["colour"]["delta_e2000_validation_map_vs_truth_median"] =
           map_vs_truth.empty() ? Json(nullptr) : Json(Median(map_vs_truth));
       j["colour"]["delta_e2000_albedo_median"] = score.albedo_delta_e2000_median;
+      j["colour"]["material_delta_e2000_albedo_median"] = score.material_albedo_delta_e2000_median;
+      j["colour"]["material_delta_e2000_albedo_of_mean"] = score.material_albedo_mean_delta_e2000;
       j["colour"]["channel_median_log_rmse"] = score.channel_median_log_rmse;
     }
   }
@@ -356,6 +358,14 @@ std::string TruthText(const SessionReport& s) {
                   m < s.materials.size() ? s.materials[m].c_str() : "", per_material[m],
                   m < s.homogeneous_log_rmse.size() ? s.homogeneous_log_rmse[m] : 0.0);
     t << line;
+    if (s.colour() && m < s.score.material_albedo_delta_e2000_median.size()) {
+      std::snprintf(line, sizeof line,
+                    "    diffuse colour: median CIEDE2000 %.2f over its pixels, %.2f of their "
+                    "mean colour\n",
+                    s.score.material_albedo_delta_e2000_median[m],
+                    s.score.material_albedo_mean_delta_e2000[m]);
+      t << line;
+    }
   }
   return t.str();
 }
