@@ -306,8 +306,12 @@ int ReconstructSynthetic(const Argv& argv) {
       for (const auto& [g, n] : groups[m])
         in += " " + (g < 0 ? std::string("alone") : "g" + std::to_string(g)) + ":" +
               std::to_string(n);
-      std::printf("score: material %s median per-pixel log-space RMSE %.4f;%s\n",
-                  sample_names[m].c_str(), score.material_median_log_rmse[m], in.c_str());
+      std::printf(
+          "score: material %s median per-pixel log-space RMSE %.4f; diffuse colour CIEDE2000 "
+          "%.2f (its mean colour's %.2f);%s\n",
+          sample_names[m].c_str(), score.material_median_log_rmse[m],
+          score.material_albedo_delta_e2000_median[m], score.material_albedo_mean_delta_e2000[m],
+          in.c_str());
     }
     if (!source.scene().normal.empty()) PrintNormalScore(map, source.scene());
   }
