@@ -9,7 +9,9 @@
 namespace acq::sim {
 
 SampleGrid SyntheticSvbrdf::Grid() const {
-  return {width, height, sample_size_mm, sample_size_mm};
+  // Square cells, as a map's pixels are (one pixel_size_mm): the width spans the sample size.
+  const double cell_mm = width > 0 ? sample_size_mm / width : 0;
+  return {width, height, sample_size_mm, cell_mm * height};
 }
 
 Eigen::Vector2d SyntheticSvbrdf::PointOf(int pixel) const {

@@ -22,7 +22,7 @@ namespace acq::sim {
 
 struct SyntheticSvbrdf {
   int width = 0, height = 0;
-  double sample_size_mm = 0;        // side of the square sample the reference view covers
+  double sample_size_mm = 0;        // the width the reference view covers; cells are square
   std::vector<std::uint8_t> label;  // material index per pixel, row-major
   // The true shading normal per pixel in the sample frame (relief.h); empty: flat. A pixel's
   // material is evaluated in its facet's frame (core/facet_frame.h).
