@@ -85,3 +85,42 @@ TEST_CASE("an unfinished map leaves no file; a foreign EXR is refused", "[map]")
   CHECK_THROWS_WITH(ReadSvbrdfMap(test::DataPath("directions/seed_directions_20.tsv")),
                     Catch::Contains("cannot read the SVBRDF map"));
 }
+
+TEST_CASE("a synthetic map written before the row rule is read with its rows turned over",
+          "[map]") {
+  // Before 2026-12-03 `acq reconstruct synthetic` ran a map's rows to the sample's +y, sessions
+  // to -y; only synthetic maps moved. Such a map (no acqRowRule) keeps every pixel's place on
+  // the sample when read; a session's map of that age is read as written.
+  test::TempDir dir;
+  SvbrdfMapInfo info;
+  info.width = 3;
+  info.height = 4;
+  info.components = 1;
+  info.rows_to_minus_y = false;  // as written then
+  const std::size_t planes = SvbrdfChannelNames(1).size();
+  auto write = [&](const std::string& path, const std::string& camera) {
+    info.camera_model = camera;
+    SvbrdfMapWriter w(path, info);
+    std::vector<std::vector<float>> v(planes, std::vector<float>(12));
+    for (std::size_t c = 0; c < planes; ++c)
+      for (int p = 0; p < 12; ++p) v[c][std::size_t(p)] = float(p);  // row y holds 3y..3y+2
+    std::vector<const float*> p;
+    for (auto& plane : v) p.push_back(plane.data());
+    w.WriteRows(4, p);
+    w.Finish();
+  };
+  write(dir / "synthetic.exr", kSyntheticCameraModel);
+  write(dir / "session.exr", "calibration/camera.cameramodel");
+  const SvbrdfMap synthetic = ReadSvbrdfMap(dir / "synthetic.exr");
+  CHECK(synthetic.info.rows_to_minus_y);
+  CHECK(synthetic.Plane("valid", 1, 0) == 10);  // the old last row is the first now
+  CHECK(synthetic.Plane("normal.y", 2, 3) == 2);
+  CHECK(synthetic.Coefficients(0, 1, 0) == std::vector<float>{6});
+  const SvbrdfMap session = ReadSvbrdfMap(dir / "session.exr");
+  CHECK_FALSE(session.info.rows_to_minus_y);
+  CHECK(session.Plane("valid", 1, 0) == 1);
+  // A map written now says so, and is read as written.
+  info.rows_to_minus_y = true;
+  write(dir / "now.exr", kSyntheticCameraModel);
+  CHECK(ReadSvbrdfMap(dir / "now.exr").Plane("valid", 1, 0) == 1);
+}

@@ -247,7 +247,7 @@ int ReconstructSynthetic(const Argv& argv) {
   SvbrdfMapInfo info;
   info.basis = basis_path;
   info.basis_crc32 = mapped.Checksum();
-  info.camera_model = "none (synthetic: ideal pinhole looking straight down)";
+  info.camera_model = kSyntheticCameraModel;
   const ReconstructionReport report = Reconstruct(basis, source, r, info, out);
   std::printf("map: %s (%dx%d, k = %d, %s rows)\n", out.c_str(), w, h, r.solve.components,
               args.Get("lookup", "nearest").c_str());

@@ -24,6 +24,15 @@ namespace acq {
 namespace {
 
 constexpr const char* kFormat = "acq-svbrdf-map 1";
+constexpr const char* kRowRule = "rows to the sample's -y (core/sample_grid.h)";
+
+// Turns a row-major plane of `width` columns upside down.
+void FlipRows(std::vector<float>* plane, int width) {
+  const std::size_t w = std::size_t(width), rows = w ? plane->size() / w : 0;
+  for (std::size_t r = 0; r < rows / 2; ++r)
+    std::swap_ranges(plane->begin() + long(r * w), plane->begin() + long((r + 1) * w),
+                     plane->begin() + long((rows - 1 - r) * w));
+}
 const std::vector<std::string> kDiagnostics = {"valid",    "observations", "condition", "residual",
                                                "group",    "departure",    "normal.x",  "normal.y",
                                                "normal.z", "normal_status"};
@@ -89,6 +98,7 @@ SvbrdfMapWriter::SvbrdfMapWriter(const std::string& path, const SvbrdfMapInfo& i
   header.insert("acqSource", Imf::StringAttribute(info.source));
   header.insert("acqMethod", Imf::StringAttribute(info.method));
   if (!info.model.empty()) header.insert("acqModel", Imf::StringAttribute(info.model));
+  if (info.rows_to_minus_y) header.insert("acqRowRule", Imf::StringAttribute(kRowRule));
   try {
     impl_->file = std::make_unique<Imf::OutputFile>(impl_->partial.c_str(), header);
   } catch (const std::exception& e) {
@@ -199,6 +209,11 @@ SvbrdfMap ReadSvbrdfMap(const std::string& path) {
       throw UserError(path, "the map is incomplete (a write was interrupted)",
                       "run the reconstruction again");
     file.readPixels(dw.min.y, dw.max.y);
+    map.info.rows_to_minus_y = h.findTypedAttribute<Imf::StringAttribute>("acqRowRule") != nullptr;
+    if (!map.info.rows_to_minus_y && map.info.camera_model == kSyntheticCameraModel) {
+      for (std::vector<float>& plane : map.planes) FlipRows(&plane, map.info.width);
+      map.info.rows_to_minus_y = true;
+    }
     return map;
   } catch (const UserError&) {
     throw;

@@ -21,6 +21,11 @@
 
 namespace acq {
 
+// The camera_model of a map from `acq reconstruct synthetic` (observations straight from the
+// ground truth): how a reader tells a synthetic map from a session's.
+inline constexpr const char* kSyntheticCameraModel =
+    "none (synthetic: ideal pinhole looking straight down)";
+
 struct SvbrdfMapInfo {
   int width = 0, height = 0;
   int components = 0;                  // k
@@ -28,11 +33,14 @@ struct SvbrdfMapInfo {
   std::string lookup;                  // "nearest" or "interpolated"
   std::string basis;                   // path of the basis file
   std::uint32_t basis_crc32 = 0;       // its checksum (docs/basis-format.md)
-  std::string camera_model;            // reference camera's .cameramodel, or "none (synthetic)"
+  std::string camera_model;            // reference camera's .cameramodel, or kSyntheticCameraModel
   double pixel_size_mm = 0;            // on the sample
   std::string source;                  // what the observations came from
   std::string method = "independent";  // ReconstructionMethodName
   std::string model;                   // the pooled model's summary (PooledModel::Summary)
+  // Written as the attribute acqRowRule: the map's rows run to the sample's -y
+  // (core/sample_grid.h). False only to write a file as maps were before the rule (tests).
+  bool rows_to_minus_y = true;
 };
 
 // Channel names in file order: 3 k coefficient channels, then the ten per-pixel diagnostics.
@@ -62,7 +70,10 @@ struct SvbrdfMap {
   float Plane(const std::string& name, int x, int y) const;
 };
 
-// Throws UserError naming the file when it is not an SVBRDF map or is incomplete.
+// Throws UserError naming the file when it is not an SVBRDF map or is incomplete. A synthetic
+// map written before the row rule (no acqRowRule; `acq reconstruct synthetic` then ran its rows
+// to +y) is read with its rows turned over, so that every pixel keeps its place on the sample;
+// a session's map always ran its rows to -y and is read as written.
 SvbrdfMap ReadSvbrdfMap(const std::string& path);
 
 }  // namespace acq
