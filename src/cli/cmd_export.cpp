@@ -1,5 +1,6 @@
 // acq export pbr | mitsuba: the map in files other renderers read (src/export, docs/export.md).
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -92,9 +93,31 @@ std::vector<std::string> ValidationFiles(const std::string& session) {
   return files;
 }
 
-// Each validation view the session kept, the map's and the fitted maps' prediction against it.
+// Relative RMS of a prediction against the capture over the compared pixels of one label each
+// (the validation views' figure, split by true material).
+std::vector<double> RelativeRmsByLabel(const ValidationResult& r, const std::vector<int>& label,
+                                       std::size_t labels) {
+  std::vector<double> diff2(labels, 0), ref2(labels, 0);
+  for (std::size_t p = 0; p < label.size(); ++p) {
+    if (label[p] < 0 || std::size_t(label[p]) >= labels) continue;
+    for (int ch = 0; ch < 3; ++ch) {
+      const double a = r.predicted.rgb[3 * p + ch], b = r.captured.rgb[3 * p + ch];
+      diff2[std::size_t(label[p])] += (a - b) * (a - b);  // 0 where not compared: both 0
+      ref2[std::size_t(label[p])] += b * b;
+    }
+  }
+  std::vector<double> out;
+  for (std::size_t m = 0; m < labels; ++m)
+    out.push_back(ref2[m] > 0 ? std::sqrt(diff2[m] / ref2[m]) : 0.0);
+  return out;
+}
+
+// Each validation view the session kept, the map's and the fitted maps' prediction against it;
+// with the truth's labels (a simulated session), also per true material.
 nlohmann::json CompareOnValidationViews(const std::vector<std::string>& files, const SvbrdfMap& map,
-                                        const BasisView& basis, const PbrMaps& maps) {
+                                        const BasisView& basis, const PbrMaps& maps,
+                                        const std::vector<int>& truth,
+                                        const std::vector<std::string>& names) {
   nlohmann::json out = nlohmann::json::array();
   for (const std::string& f : files) {
     const ValidationData data = ReadValidationData(f);
@@ -102,14 +125,22 @@ nlohmann::json CompareOnValidationViews(const std::vector<std::string>& files, c
       throw UserError(f, "is not of this map's size", "give the map of the same session");
     const ValidationResult measured = Compare(data, MapPixelBrdf(map, basis, MapRowLookup(map)));
     const ValidationResult fitted = Compare(data, PbrPixelBrdf(maps));
-    out.push_back(
-        {{"view", data.name},
-         {"pixels", measured.pixels},
-         {"map_relative_rms", measured.relative_rms},
-         {"fitted_relative_rms", fitted.relative_rms},
-         {"ratio", measured.relative_rms > 0 ? fitted.relative_rms / measured.relative_rms : 0.0},
-         {"map_median_delta_e2000", measured.median_delta_e2000},
-         {"fitted_median_delta_e2000", fitted.median_delta_e2000}});
+    nlohmann::json view = {
+        {"view", data.name},
+        {"pixels", measured.pixels},
+        {"map_relative_rms", measured.relative_rms},
+        {"fitted_relative_rms", fitted.relative_rms},
+        {"ratio", measured.relative_rms > 0 ? fitted.relative_rms / measured.relative_rms : 0.0},
+        {"map_median_delta_e2000", measured.median_delta_e2000},
+        {"fitted_median_delta_e2000", fitted.median_delta_e2000}};
+    if (truth.size() == std::size_t(data.width) * std::size_t(data.height)) {
+      const std::vector<double> a = RelativeRmsByLabel(measured, truth, names.size()),
+                                b = RelativeRmsByLabel(fitted, truth, names.size());
+      for (std::size_t m = 0; m < names.size(); ++m)
+        view["by_material"].push_back(
+            {{"name", names[m]}, {"map_relative_rms", a[m]}, {"fitted_relative_rms", b[m]}});
+    }
+    out.push_back(view);
   }
   return out;
 }
@@ -178,7 +209,8 @@ int ExportPbr(const Argv& argv) {
     std::vector<std::string> names;
     const std::vector<int> truth = TruthLabels(session, maps, &names);
     if (!truth.empty()) report["by_material"] = ErrorByClass(maps, truth, names);
-    report["validation"] = CompareOnValidationViews(validation, m.map, m.basis.View(), maps);
+    report["validation"] =
+        CompareOnValidationViews(validation, m.map, m.basis.View(), maps, truth, names);
   }
   std::ofstream(dir + "/fit.json") << report.dump(2) << "\n";
 
@@ -194,10 +226,15 @@ int ExportPbr(const Argv& argv) {
                     c["name"].get<std::string>().c_str(), c["pixels"].get<long>(),
                     c["median_log_rmse"].get<double>());
   if (report.contains("validation"))
-    for (const auto& v : report["validation"])
+    for (const auto& v : report["validation"]) {
       std::printf("  validation %-24s relative RMS: map %.4f, fitted %.4f (%.2fx)\n",
                   v["view"].get<std::string>().c_str(), v["map_relative_rms"].get<double>(),
                   v["fitted_relative_rms"].get<double>(), v["ratio"].get<double>());
+      if (v.contains("by_material"))
+        for (const auto& c : v["by_material"])
+          std::printf("    %-26s map %.4f, fitted %.4f\n", c["name"].get<std::string>().c_str(),
+                      c["map_relative_rms"].get<double>(), c["fitted_relative_rms"].get<double>());
+    }
   std::printf("wrote %s/{%s,%s,%s,%s,%s,%s,%s,%s,%s,%sfit.json}\n", dir.c_str(), kGltfFile,
               kGltfBuffer, kMaterialXFile, PbrTextureNames::kBaseColor,
               PbrTextureNames::kMetallicRoughness, PbrTextureNames::kSpecular,
