@@ -1,6 +1,7 @@
 #include "acq/validation.h"
 
 #include <cmath>
+#include <stdexcept>
 
 #include "brdf/evaluation.h"
 #include "core/colour.h"
@@ -99,6 +100,26 @@ ValidationResult Compare(const ValidationData& data, const PixelBrdf& brdf) {
   result.relative_rms = ref2 > 0 ? std::sqrt(diff2 / ref2) : 0;
   result.median_relative = relative.empty() ? 0 : Median(relative);
   return result;
+}
+
+std::vector<double> RelativeRmsByLabel(const ValidationResult& result,
+                                       const std::vector<int>& labels, std::size_t count) {
+  if (labels.size() * 3 != result.captured.rgb.size() ||
+      result.predicted.rgb.size() != result.captured.rgb.size())
+    throw std::invalid_argument("RelativeRmsByLabel: labels and images of different sizes");
+  std::vector<double> diff2(count, 0), ref2(count, 0);
+  for (std::size_t p = 0; p < labels.size(); ++p) {
+    if (labels[p] < 0 || std::size_t(labels[p]) >= count) continue;
+    for (int ch = 0; ch < 3; ++ch) {  // pixels not compared are 0 in both images
+      const double a = result.predicted.rgb[3 * p + ch], b = result.captured.rgb[3 * p + ch];
+      diff2[std::size_t(labels[p])] += (a - b) * (a - b);
+      ref2[std::size_t(labels[p])] += b * b;
+    }
+  }
+  std::vector<double> out;
+  for (std::size_t m = 0; m < count; ++m)
+    out.push_back(ref2[m] > 0 ? std::sqrt(diff2[m] / ref2[m]) : 0.0);
+  return out;
 }
 
 ValidationResult CompareWithCapture(const SvbrdfMap& map, const BasisView& basis, SessionView view,

@@ -51,6 +51,11 @@ PixelBrdf MapPixelBrdf(const SvbrdfMap& map, const BasisView& basis, RowLookup l
 // Throws UserError when the view's maps do not match the map's size.
 ValidationData CaptureOfView(const SvbrdfMap& map, SessionView view);
 ValidationResult Compare(const ValidationData& data, const PixelBrdf& brdf);
+// The relative RMS of a comparison over the compared pixels of each label (labels[pixel] in
+// [0, count), row-major; negative: none), e.g. per true material in simulation; 0 for a label
+// with no compared pixel. Throws std::invalid_argument when the sizes disagree.
+std::vector<double> RelativeRmsByLabel(const ValidationResult& result,
+                                       const std::vector<int>& labels, std::size_t count);
 ValidationResult CompareWithCapture(const SvbrdfMap& map, const BasisView& basis, SessionView view,
                                     RowLookup lookup);
 

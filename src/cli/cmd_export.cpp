@@ -93,25 +93,6 @@ std::vector<std::string> ValidationFiles(const std::string& session) {
   return files;
 }
 
-// Relative RMS of a prediction against the capture over the compared pixels of one label each
-// (the validation views' figure, split by true material).
-std::vector<double> RelativeRmsByLabel(const ValidationResult& r, const std::vector<int>& label,
-                                       std::size_t labels) {
-  std::vector<double> diff2(labels, 0), ref2(labels, 0);
-  for (std::size_t p = 0; p < label.size(); ++p) {
-    if (label[p] < 0 || std::size_t(label[p]) >= labels) continue;
-    for (int ch = 0; ch < 3; ++ch) {
-      const double a = r.predicted.rgb[3 * p + ch], b = r.captured.rgb[3 * p + ch];
-      diff2[std::size_t(label[p])] += (a - b) * (a - b);  // 0 where not compared: both 0
-      ref2[std::size_t(label[p])] += b * b;
-    }
-  }
-  std::vector<double> out;
-  for (std::size_t m = 0; m < labels; ++m)
-    out.push_back(ref2[m] > 0 ? std::sqrt(diff2[m] / ref2[m]) : 0.0);
-  return out;
-}
-
 // Each validation view the session kept, the map's and the fitted maps' prediction against it;
 // with the truth's labels (a simulated session), also per true material.
 nlohmann::json CompareOnValidationViews(const std::vector<std::string>& files, const SvbrdfMap& map,
