@@ -33,8 +33,8 @@ inline constexpr double kPbrMaxRoughness = 1.0;
 std::array<double, 3> EvaluatePbr(const PbrParameters& p, const Eigen::Vector3d& in,
                                   const Eigen::Vector3d& out);
 
-// Where the fit compares: MERL bins spread over the valid grid, denser near the specular peak
-// (theta_h's sqrt binning already is), with each bin's geometry at its centre.
+// Where the fit compares: MERL bins spread evenly in index over the valid grid (so as dense near
+// the specular peak as MERL's sqrt-spaced theta_h is), with each bin's geometry at its centre.
 struct PbrFitGrid {
   std::vector<std::uint32_t> bins;  // flat MERL indices, ascending
   std::vector<double> cos_in, cos_out, cos_h, cos_d, cos_weight;
