@@ -1,12 +1,12 @@
 #include "sim/ground_truth.h"
 
-#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 
 #include "core/error.h"
+#include "core/sample_grid.h"
 #include "io/float_planes_exr.h"
 
 namespace acq::sim {
@@ -17,15 +17,6 @@ namespace {
 // over so that every stored cell keeps its place on the sample.
 constexpr const char* kFormat = "acq-ground-truth-2";
 constexpr const char* kFormatRowsUp = "acq-ground-truth-1";
-
-// Turns a row-major plane of `width` columns upside down.
-template <class T>
-void FlipRows(std::vector<T>* plane, int width) {
-  const std::size_t w = std::size_t(width), rows = w ? plane->size() / w : 0;
-  for (std::size_t r = 0; r < rows / 2; ++r)
-    std::swap_ranges(plane->begin() + long(r * w), plane->begin() + long((r + 1) * w),
-                     plane->begin() + long((rows - 1 - r) * w));
-}
 
 }  // namespace
 
@@ -79,8 +70,8 @@ GroundTruthFiles ReadGroundTruth(const std::string& dir) {
       truth.card.normal.push_back(
           Eigen::Vector3f(nx->second[i], ny->second[i], nz->second[i]).normalized());
   if (format->second == kFormatRowsUp) {  // the normals are sample-frame vectors: only moved
-    FlipRows(&truth.card.label, truth.card.width);
-    FlipRows(&truth.card.normal, truth.card.width);
+    FlipGridRows(&truth.card.label, truth.card.width);
+    FlipGridRows(&truth.card.normal, truth.card.width);
   }
   std::ifstream names(dir + "/materials.tsv");
   for (std::string line; std::getline(names, line);) {

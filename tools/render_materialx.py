@@ -131,12 +131,12 @@ def main():
         # MaterialX's GLSL renderer opens an X display and exits the process when there is none.
         raise SystemExit("render_materialx.py: no X display (DISPLAY is not set); run it under "
                          "xvfb-run -a (Debian's xvfb: tools/setup.sh --viewers)")
-    for path in (os.path.join(a.pbr_dir, "material.mtlx"), os.path.join(a.pbr_dir, "material.gltf")):
+    mtlx = os.path.join(a.pbr_dir, "material.mtlx")
+    gltf = os.path.join(a.pbr_dir, "material.gltf")
+    for path in (mtlx, gltf):
         if not os.path.isfile(path):
             raise SystemExit(f"render_materialx.py: {path} not found; give the folder `acq export "
                              "pbr` wrote")
-    mtlx = os.path.join(a.pbr_dir, "material.mtlx")
-    gltf = os.path.join(a.pbr_dir, "material.gltf")
     doc, stdlib, search = load_document(mtlx)
     gen, context = generator(search, stdlib)
 

@@ -49,20 +49,12 @@ long RevertUnexplainedNormals(const BasisView& basis, const PixelObservations& a
   if (back.empty()) return 0;
   const PixelObservations again = as_read.Gather(back);
   PixelSolution redone;
-  const std::size_t k3 = 3 * std::size_t(solution->components);
   redone.Resize(again.pixels, solution->components);
   SolvePixelsPooled(basis, again, model, solve, &redone);
-  for (std::size_t i = 0; i < back.size(); ++i) {
-    const std::size_t p = std::size_t(back[i]);
-    std::copy_n(&redone.coefficients[i * k3], k3, &solution->coefficients[p * k3]);
-    solution->valid[p] = redone.valid[i];
-    solution->observations[p] = redone.observations[i];
-    solution->condition[p] = redone.condition[i];
-    solution->residual[p] = redone.residual[i];
-    solution->group[p] = redone.group[i];
-    solution->departure[p] = redone.departure[i];
-    normals->normal[p] = Eigen::Vector3f::UnitZ();
-    normals->status[p] = NormalStatus::kAssumed;
+  solution->Scatter(redone, back);
+  for (int p : back) {
+    normals->normal[std::size_t(p)] = Eigen::Vector3f::UnitZ();
+    normals->status[std::size_t(p)] = NormalStatus::kAssumed;
   }
   return long(back.size());
 }

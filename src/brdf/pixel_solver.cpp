@@ -68,6 +68,20 @@ void PixelSolution::Resize(int pixels, int k) {
   departure.assign(pixels, 0.0f);
 }
 
+void PixelSolution::Scatter(const PixelSolution& part, const std::vector<int>& where) {
+  const std::size_t k3 = 3 * std::size_t(components);
+  for (std::size_t i = 0; i < where.size(); ++i) {
+    const std::size_t p = std::size_t(where[i]);
+    std::copy_n(&part.coefficients[i * k3], k3, &coefficients[p * k3]);
+    valid[p] = part.valid[i];
+    observations[p] = part.observations[i];
+    condition[p] = part.condition[i];
+    residual[p] = part.residual[i];
+    group[p] = part.group[i];
+    departure[p] = part.departure[i];
+  }
+}
+
 void PixelSolveOptions::Check(const BasisView& basis) const {
   if (components < 1 || components > basis.components)
     throw UserError("--k", "must be in [1, " + std::to_string(basis.components) + "]");

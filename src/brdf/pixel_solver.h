@@ -136,6 +136,9 @@ struct PixelSolution {
   std::vector<float> departure;
 
   void Resize(int pixels, int k);
+  // Pixel i of `part` (same k) becomes pixel where[i] of this solution: the inverse of
+  // PixelObservations::Gather, for pixels solved again on their own.
+  void Scatter(const PixelSolution& part, const std::vector<int>& where);
 };
 
 // Solves every pixel of the tile (OpenMP across pixels). Never writes NaN: a pixel with no

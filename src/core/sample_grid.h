@@ -6,7 +6,9 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <algorithm>
 #include <cmath>
+#include <vector>
 
 namespace acq {
 
@@ -34,5 +36,15 @@ struct SampleGrid {
     return {along_columns, -down_rows};
   }
 };
+
+// Turns a row-major plane of `width` columns upside down: how a grid stored before this rule
+// (rows to the sample's +y: synthetic maps and simulated cards before 2026-12-03) is read.
+template <class T>
+void FlipGridRows(std::vector<T>* plane, int width) {
+  const std::size_t w = std::size_t(width), rows = w ? plane->size() / w : 0;
+  for (std::size_t r = 0; r < rows / 2; ++r)
+    std::swap_ranges(plane->begin() + long(r * w), plane->begin() + long((r + 1) * w),
+                     plane->begin() + long((rows - 1 - r) * w));
+}
 
 }  // namespace acq

@@ -18,6 +18,7 @@
 #include <limits>
 
 #include "core/error.h"
+#include "core/sample_grid.h"
 #include "io/exr_settings.h"
 
 namespace acq {
@@ -26,13 +27,6 @@ namespace {
 constexpr const char* kFormat = "acq-svbrdf-map 1";
 constexpr const char* kRowRule = "rows to the sample's -y (core/sample_grid.h)";
 
-// Turns a row-major plane of `width` columns upside down.
-void FlipRows(std::vector<float>* plane, int width) {
-  const std::size_t w = std::size_t(width), rows = w ? plane->size() / w : 0;
-  for (std::size_t r = 0; r < rows / 2; ++r)
-    std::swap_ranges(plane->begin() + long(r * w), plane->begin() + long((r + 1) * w),
-                     plane->begin() + long((rows - 1 - r) * w));
-}
 const std::vector<std::string> kDiagnostics = {"valid",    "observations", "condition", "residual",
                                                "group",    "departure",    "normal.x",  "normal.y",
                                                "normal.z", "normal_status"};
@@ -211,7 +205,7 @@ SvbrdfMap ReadSvbrdfMap(const std::string& path) {
     file.readPixels(dw.min.y, dw.max.y);
     map.info.rows_to_minus_y = h.findTypedAttribute<Imf::StringAttribute>("acqRowRule") != nullptr;
     if (!map.info.rows_to_minus_y && map.info.camera_model == kSyntheticCameraModel) {
-      for (std::vector<float>& plane : map.planes) FlipRows(&plane, map.info.width);
+      for (std::vector<float>& plane : map.planes) FlipGridRows(&plane, map.info.width);
       map.info.rows_to_minus_y = true;
     }
     return map;
