@@ -725,6 +725,60 @@ TEST_CASE("pooled: at 4 degrees better than alone, at 0 degrees no worse", "[pix
   }
 }
 
+TEST_CASE("pooled: a group's centre is weighted to the plan's directions", "[pixel][pooled]") {
+  // One material at a time over a 4-degree card, one group forced: its centre fitted with every
+  // pixel alike and with the design weighting, each scored over the whole grid. The plan's
+  // directions were optimised for the grid's error at the sample's centre; fitting every
+  // pixel's near-field directions alike spends the basis on their spread.
+  const Fixture& d = Data();
+  const HeldOutSet truth(d.basis.View(), d.tables);
+  const PixelSolveOptions solve = PerPixel();
+  sim::ObservationOptions o;
+  o.noise_sigma = 0.02;
+  double sum_alike = 0, sum_weighted = 0;
+  for (const double fov : {0.0, 4.0}) {
+    const double size = NearFieldGeometry::SampleSizeForFov(DegToRad(fov), 1000);
+    sim::SyntheticSvbrdf scene = sim::MakeCardLayout(32, 32, size, 4, 3);
+    for (int m = 0; m < int(d.names.size()); ++m) {
+      std::fill(scene.label.begin(), scene.label.end(), std::uint8_t(m));
+      const PixelObservations obs =
+          sim::SyntheticObservations(scene, d.continuous, d.views, o, 0, int(scene.label.size()));
+      PooledOptions alike, weighted;
+      alike.groups = weighted.groups = 1;
+      alike.design_sigma_deg = 0;
+      const PooledModel a = FitPooledModel(d.basis.View(), obs, solve, alike);
+      const PooledModel w = FitPooledModel(d.basis.View(), obs, solve, weighted);
+      REQUIRE(a.groups.size() == 1);
+      REQUIRE(w.groups.size() == 1);
+      auto error = [&](const PooledModel& model) {
+        const PooledGroup& g = model.groups[0];
+        double e = 0;
+        for (int ch = 0; ch < 3; ++ch) {
+          const Eigen::Map<const Eigen::VectorXf> c(&g.centre[std::size_t(ch) * model.components],
+                                                    g.centre_components);
+          e += truth.LogRmse(m * 3 + ch, c.cast<double>()) / 3;
+        }
+        return e;
+      };
+      const double ea = error(a), ew = error(w);
+      WARN(d.names[m] << " at " << fov << " deg: centre " << ea << " with every pixel alike, " << ew
+                      << " weighted to the design (" << w.groups[0].effective_pixels
+                      << " effective pixels of " << w.groups[0].sample_pixels << ")");
+      if (fov == 0) {
+        // Every pixel sees the plan's directions: the weights are all alike.
+        CHECK(ew == Approx(ea).epsilon(1e-9));
+        CHECK(w.groups[0].effective_pixels == Approx(w.groups[0].sample_pixels));
+      } else {
+        sum_alike += ea, sum_weighted += ew;
+      }
+    }
+  }
+  // On the 256 x 256 card with the optimised directions the materials' maps went 0.362 /
+  // 0.239 / 0.157 / 0.155 -> 0.277 / 0.193 / 0.150 / 0.165 (docs/reconstruction.md): better on
+  // the whole, not on every material; a tenth better over the four is the floor here.
+  CHECK(sum_weighted < 0.9 * sum_alike);
+}
+
 TEST_CASE("pooled: a material the model never saw is solved alone", "[pixel][pooled]") {
   // The model is fitted on a card of three inks; the solve is of a card whose pixels are all
   // the fourth. No centre explains their data, so the prior must lose: each such pixel keeps

@@ -104,6 +104,9 @@ variant board_fraction 's/size: \[10, 10\]/size: [10.5, 10]/'
 expect "board size not whole" 1 board_fraction.yaml --dry-run -- "board_fraction.yaml:18:" "whole numbers"
 variant k_too_big 's/^  k: 4$/  k: 12/'
 expect "k above the basis" 1 k_too_big.yaml --dry-run -- "k_too_big.yaml:22:6:" "the basis" "has 4 components"
+variant negative_design 's/^  k: 4$/  k: 4\n  design_sigma_deg: -1/'
+expect "design weighting out of range" 1 negative_design.yaml --dry-run -- \
+  "negative_design.yaml:23:" "reconstruction.design_sigma_deg must be in [0, 90] degrees"
 grep -v '^#' "$tmp/directions.tsv" | head -3 > "$tmp/two.tsv"  # the header and 2 directions
 variant k_above_directions 's/file: directions.tsv/file: two.tsv/'
 expect "k above the directions" 1 k_above_directions.yaml --dry-run -- "k_above_directions.yaml:22:6:" "the plan has 2 directions"

@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # The pooled reconstruction against the independent one (issue 17, docs/reconstruction.md
 # "Pooled"): `acq reconstruct synthetic --score` over fields of view, noise, forced numbers of
-# groups, a dropped view, 50 inks, a material covering 0.5% of the sample, and the blend,
-# marbled and fine-text samples. Writes out/study/pooled/results.tsv and pooled.png.
+# groups, the centres' weighting to the plan's directions, a dropped view, 50 inks, a material
+# covering 0.5% of the sample, and the blend, marbled and fine-text samples. Writes
+# out/study/pooled/results.tsv and pooled.png.
 # Needs out/main/basis116.acqb and out/main/optimized20.tsv (tools/run-main.sh). ~5 minutes.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -39,6 +40,12 @@ for fov in 0 4 10; do
   for noise in 0 0.05 0.1; do both card "$fov" "$noise" --directions "$dirs"; done
 done
 for g in 1 2 8 16; do run "groups-$g" 4 0.05 pooled --directions "$dirs" --groups "$g"; done
+# The centres' weighting to the plan's directions (0: every pixel alike; default 0.15 deg).
+for fov in 4 10; do
+  for sigma in 0 0.05 0.5; do
+    run "design-$sigma" "$fov" 0.05 pooled --directions "$dirs" --design-sigma-deg "$sigma"
+  done
+done
 # One view dropped: the optimised set less its fifth direction.
 awk 'NR != 6' "$dirs" >"$out/dropped19.tsv"
 both one-view-dropped 4 0.05 --directions "$out/dropped19.tsv"
@@ -70,7 +77,7 @@ def get(case, fov, noise, method):
         if (r["case"], r["fov_deg"], r["noise"], r["method"]) == (case, fov, noise, method):
             return float(r["median"])
     return float("nan")
-fig, ax = plt.subplots(1, 4, figsize=(20, 4.5))
+fig, ax = plt.subplots(1, 5, figsize=(25, 4.5))
 for method, style in (("independent", "o-"), ("pooled", "s-")):
     for noise in ("0", "0.05", "0.1"):
         ax[0].plot([0, 4, 10], [get("card", f, noise, method) for f in ("0", "4", "10")], style,
@@ -101,6 +108,16 @@ for i, method in enumerate(("independent", "pooled")):
 ax[3].set_xticks([v + 0.2 for v in x], [f"{s}\n{f} deg" for s, f in samples], fontsize=7)
 ax[3].set(title="samples (5% noise)")
 ax[3].legend()
+sigmas = [0, 0.05, 0.15, 0.5]
+for fov, style in (("4", "s-"), ("10", "o-")):
+    ys = [get("card", fov, "0.05", "pooled") if s == 0.15 else get(f"design-{s}", fov, "0.05", "pooled")
+          for s in sigmas]
+    ax[4].plot([0.01 if s == 0 else s for s in sigmas], ys, style, label=f"{fov} deg")
+    ax[4].axhline(get("card", fov, "0.05", "independent"), color="r" if fov == "4" else "m", ls=":",
+                  label=f"independent, {fov} deg")
+ax[4].set(xscale="log", xlabel="design weighting sigma (deg; 0 plotted at 0.01: every pixel alike)",
+          title="the centres' weighting to the plan's directions (card, 5%)")
+ax[4].legend(fontsize=7)
 fig.tight_layout()
 fig.savefig(sys.argv[2], dpi=90)
 print("wrote", sys.argv[2])

@@ -532,8 +532,9 @@ SimSpec ReadSim(const YAML::Node& root, const Section& top, const std::string& b
 }
 
 ReconstructionSpec ReadReconstruction(const Section& top, const std::string& base) {
-  const Section recon = top.Child(
-      "reconstruction", {"basis", "k", "eta", "lookup", "row_tile", "method", "groups", "normals"});
+  const Section recon =
+      top.Child("reconstruction", {"basis", "k", "eta", "lookup", "row_tile", "method", "groups",
+                                   "design_sigma_deg", "normals"});
   ReconstructionSpec r;
   r.basis_file = Resolve(base, recon.Required("basis"));
   RequireFile(recon, "basis", r.basis_file, "build one with `acq basis build` (README)");
@@ -555,6 +556,7 @@ ReconstructionSpec ReadReconstruction(const Section& top, const std::string& bas
     throw UserError(recon.Where("method"), "reconstruction.method '" + method + "' is not known",
                     "use independent or pooled");
   r.groups = int(recon.Integer("groups", r.groups, 0, 1024));
+  r.design_sigma_deg = recon.Number("design_sigma_deg", r.design_sigma_deg);
   r.normals = recon.Flag("normals", r.normals);
   recon.Checked([&] { r.Check(); });
   return r;
@@ -645,6 +647,8 @@ void SimSpec::Check() const {
 
 void ReconstructionSpec::Check() const {
   if (!(eta >= 0)) throw UserError("eta", "must be >= 0");
+  if (!(design_sigma_deg >= 0 && design_sigma_deg <= 90))
+    throw UserError("design_sigma_deg", "must be in [0, 90] degrees (0: every pixel alike)");
 }
 
 Plan LoadPlan(const std::string& path, const std::string& relative_to) {

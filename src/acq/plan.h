@@ -107,7 +107,8 @@ struct ReconstructionSpec {  // reconstruction:
   RowLookup lookup = RowLookup::kNearest;
   int row_tile = 1;  // PixelSolveOptions::row_tile
   ReconstructionMethod method = kDefaultReconstructionMethod;
-  int groups = 0;        // PooledOptions::groups (0: chosen by held-out views)
+  int groups = 0;  // PooledOptions::groups (0: chosen by held-out views)
+  double design_sigma_deg = kDefaultDesignSigmaDeg;  // PooledOptions::design_sigma_deg
   bool normals = false;  // reconstruction.normals: each pixel's normal estimated (normal_search.h)
   void Check() const;
 };

@@ -186,7 +186,10 @@ std::vector<PlanSetting> PlanSettings(const Plan& plan) {
   s.Processing("reconstruction.row_tile", std::to_string(plan.reconstruction.row_tile));
   s.Processing("reconstruction.method", ReconstructionMethodName(plan.reconstruction.method));
   s.Processing("reconstruction.groups", std::to_string(plan.reconstruction.groups));
-  // Recorded when on, so that the sessions recorded before it existed compare unchanged.
+  // Recorded when not the default, so that the sessions recorded before they existed compare
+  // unchanged.
+  if (plan.reconstruction.design_sigma_deg != kDefaultDesignSigmaDeg)
+    s.Processing("reconstruction.design_sigma_deg", Number(plan.reconstruction.design_sigma_deg));
   if (plan.reconstruction.normals) s.Processing("reconstruction.normals", "true");
   return s.out;
 }

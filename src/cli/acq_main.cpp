@@ -78,6 +78,7 @@ const std::map<std::string, Command>& Commands() {
         "    [--kernel lanes|lanes-single|one-pixel] [--max-condition C] [--min-observations N]\n"
         "    [--sample-size-mm S] [--quiet]\n"
         "    [--method pooled|independent] [--groups 0] [--max-groups 64] [--sample-pixels 8192]\n"
+        "    [--design-sigma-deg 0.15]\n"
         "    [--sample card|blend|marble|text | --sample-labels PNG|EXR | --sample-weights EXR]\n"
         "    [--relief-deg S [--fibre-deg F] | --height-map EXR|PNG] [--normals\n"
         "    [--normals-max-tilt-deg 25] [--normals-prior 0.5] [--normals-k 8]\n"

@@ -163,6 +163,7 @@ ReconstructionReport ReconstructMap(const Plan& plan, const MappedBasis& mapped,
   options.solve.row_tile = plan.reconstruction.row_tile;
   options.method = plan.reconstruction.method;
   options.pooled.groups = plan.reconstruction.groups;
+  options.pooled.design_sigma_deg = plan.reconstruction.design_sigma_deg;
   options.normals.enabled = plan.reconstruction.normals;
   options.progress = false;
   SvbrdfMapInfo info;
