@@ -445,6 +445,11 @@ PooledModel FitNormalReference(const BasisView& basis, const PixelObservations& 
                                const PixelSolveOptions& solve, const PooledOptions& pooled) {
   PooledOptions reference = pooled;
   reference.centre_eta_fractions = {1, 1.0 / 4, 1.0 / 16, 1.0 / 64, 1.0 / 256};
+  // Every pixel alike: a candidate normal is judged by how well the centre predicts the pixel's
+  // own directions, wherever on the sample it lies, not the grid's error the plan's directions
+  // were chosen for (weighted to them, the study's card at 4 degrees: normals over the relief
+  // 2.16 against 1.08 degrees, false tilt 0.76 against 0.59).
+  reference.design_sigma_deg = 0;
   return FitPooledModel(basis, sample, solve, reference);
 }
 

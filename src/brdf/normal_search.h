@@ -107,7 +107,8 @@ struct PixelNormals {
 // from eta x 1, 1/4, ..., 1/256 (PooledOptions::centre_eta_fractions). A centre regularised as
 // one pixel is (eta) leaves a residual at grazing views that a tilt of 1-2 degrees absorbs (a
 // dark fabric at 4 degrees: 1 degree of false tilt, its map 0.85 against 0.50 flat); one
-// barely regularised extrapolates wildly to the directions a tilted candidate asks about.
+// barely regularised extrapolates wildly to the directions a tilted candidate asks about. Its
+// centres weigh every pixel alike (PooledOptions::design_sigma_deg 0).
 PooledModel FitNormalReference(const BasisView& basis, const PixelObservations& sample,
                                const PixelSolveOptions& solve, const PooledOptions& pooled);
 
