@@ -219,6 +219,7 @@ std::vector<SamplePixel> PrepareSample(const BasisView& basis, const PixelObserv
         offset += std::pow(Angle(obs.camera[obs.At(i, v)].cast<double>(), mean_camera[v]), 2);
       }
       p.design_offset = std::sqrt(offset / (2.0 * n));
+      if (!std::isfinite(p.design_offset)) p.design_offset = kPi;  // the least trusted
       p.rows.resize(n, K);
       p.y.resize(n, 3);
       for (int r = 0; r < n; ++r) {
@@ -380,7 +381,8 @@ std::vector<double> DesignWeights(const std::vector<SamplePixel>& pixels,
   double nearest = std::numeric_limits<double>::infinity();
   for (int i : members) nearest = std::min(nearest, pixels[i].design_offset);
   const double min_effective = std::min(kDesignMinEffective, double(members.size()));
-  for (;;) {
+  // Each widening multiplies sigma by 1.25; 100 of them take it past any angle (5e9 times).
+  for (int widening = 0; widening < 100; ++widening, sigma *= 1.25) {
     double sum = 0, sum_sq = 0;
     for (std::size_t m = 0; m < members.size(); ++m) {
       const double d = (pixels[members[m]].design_offset - nearest) / sigma;
@@ -389,8 +391,9 @@ std::vector<double> DesignWeights(const std::vector<SamplePixel>& pixels,
     }
     for (double& x : w) x /= sum;
     if (sum * sum >= 0.999 * min_effective * sum_sq) return w;
-    sigma *= 1.25;
   }
+  std::fill(w.begin(), w.end(), 1.0 / double(members.size()));
+  return w;
 }
 
 // A group's normal equations per view, over its pixels' rows (first K components), as a weighted
