@@ -409,8 +409,8 @@ std::vector<double> DesignWeights(const std::vector<SamplePixel>& pixels,
 // card at 4 degrees, white paint: 0.362 with every pixel alike, 0.277 weighted
 // (docs/reconstruction.md, "Pooled").
 struct ViewStats {
-  std::vector<Eigen::MatrixXd> a, b;  // per view: Q^T Q (K x K), Q^T y (K x 3), pixel means
-  std::vector<double> s;              // per view: |y|^2, pixel mean
+  std::vector<Eigen::MatrixXd> a, b;  // per view: Q^T Q (K x K), Q^T y (K x 3), weighted means
+  std::vector<double> s;              // per view: |y|^2, weighted mean
   Eigen::MatrixXd a_all, b_all;
   double effective_pixels = 0;  // (sum w)^2 / sum w^2
   ViewStats(const std::vector<SamplePixel>& pixels, const std::vector<int>& members, int K,
