@@ -34,8 +34,8 @@ def read_basis(path):
     return valid, ref, mean, q
 
 
-def numpy_solve(light, camera, rgb, basis, k, eta):
-    valid, ref, mean, q = basis
+def merl_bins(light, camera):
+    """The MERL grid bin (nearest, as `--lookup nearest`) of each light/camera pair (... x 3)."""
     half = light + camera
     half /= np.linalg.norm(half, axis=-1, keepdims=True)
     sin_h = np.hypot(half[..., 0], half[..., 1])
@@ -53,7 +53,12 @@ def numpy_solve(light, camera, rgb, basis, k, eta):
     ih = np.clip((np.sqrt(theta_h / (np.pi / 2)) * 90 + 1e-9).astype(int), 0, 89)
     idd = np.clip((theta_d / (np.pi / 2) * 90 + 1e-9).astype(int), 0, 89)
     ip = np.clip((phi_d / np.pi * 180 + 1e-9).astype(int), 0, 179)
-    bins = ip + 180 * idd + 16200 * ih
+    return ip + 180 * idd + 16200 * ih
+
+
+def numpy_solve(light, camera, rgb, basis, k, eta):
+    valid, ref, mean, q = basis
+    bins = merl_bins(light, camera)
     ok = (light[..., 2] > 0) & (camera[..., 2] > 0) & np.isfinite(rgb).all(-1) & (valid[bins] > 0)
     rows = np.where(ok[..., None], q[bins, :k].astype(np.float64), 0.0)  # P x V x k
     cosw = np.clip(light[..., 2] * camera[..., 2], 0.01, 1.0)[..., None]
