@@ -37,8 +37,12 @@ MapScore ScoreMap(const SvbrdfMap& map, const BasisView& basis, const std::vecto
   std::vector<double> all, valid, albedo_delta_e;
   std::array<std::vector<double>, 3> by_channel;
   const DirectionPair diffuse = DiffuseColourDirections();
-  std::vector<std::array<double, 3>> true_diffuse;
-  for (const MerlBrdf& m : truth) true_diffuse.push_back(m.Lookup(diffuse.in, diffuse.out));
+  // Each material's true diffuse colour as a reflectance (pi f), in Lab: once, not per pixel.
+  std::vector<Lab> true_diffuse;
+  for (const MerlBrdf& m : truth) {
+    const std::array<double, 3> f = m.Lookup(diffuse.in, diffuse.out);
+    true_diffuse.push_back(LabFromLinearRec709({kPi * f[0], kPi * f[1], kPi * f[2]}));
+  }
   const RowLookup lookup = ParseRowLookup(map.info.lookup).value_or(RowLookup::kNearest);
   std::vector<std::vector<double>> by_material(truth.size()), albedo_by_material(truth.size());
   std::vector<Eigen::Vector3d> albedo_sum(truth.size(), Eigen::Vector3d::Zero());
@@ -60,9 +64,8 @@ MapScore ScoreMap(const SvbrdfMap& map, const BasisView& basis, const std::vecto
       const std::vector<float> c = PixelCoefficients(map, x, y);
       const std::array<double, 3> f =
           BrdfFromCoefficients(basis, c.data(), k, diffuse.in, diffuse.out, lookup);
-      const std::array<double, 3>& t = true_diffuse[std::size_t(label[p])];
       const double albedo_e = DeltaE2000(LabFromLinearRec709({kPi * f[0], kPi * f[1], kPi * f[2]}),
-                                         LabFromLinearRec709({kPi * t[0], kPi * t[1], kPi * t[2]}));
+                                         true_diffuse[std::size_t(label[p])]);
       albedo_delta_e.push_back(albedo_e);
       albedo_by_material[std::size_t(label[p])].push_back(albedo_e);
       albedo_sum[std::size_t(label[p])] += kPi * Eigen::Vector3d(f[0], f[1], f[2]);
@@ -77,11 +80,9 @@ MapScore ScoreMap(const SvbrdfMap& map, const BasisView& basis, const std::vecto
     const std::vector<double>& e = albedo_by_material[m];
     score.material_albedo_delta_e2000_median.push_back(e.empty() ? 0 : Median(e));
     const Eigen::Vector3d mean = albedo_sum[m] / std::max<double>(1, double(e.size()));
-    const std::array<double, 3>& t = true_diffuse[m];
     score.material_albedo_mean_delta_e2000.push_back(
         e.empty() ? 0
-                  : DeltaE2000(LabFromLinearRec709({mean[0], mean[1], mean[2]}),
-                               LabFromLinearRec709({kPi * t[0], kPi * t[1], kPi * t[2]})));
+                  : DeltaE2000(LabFromLinearRec709({mean[0], mean[1], mean[2]}), true_diffuse[m]));
   }
   for (int c = 0; c < 3; ++c)
     score.channel_median_log_rmse[c] = by_channel[c].empty() ? 0 : Median(by_channel[c]);

@@ -647,8 +647,7 @@ void SimSpec::Check() const {
 
 void ReconstructionSpec::Check() const {
   if (!(eta >= 0)) throw UserError("eta", "must be >= 0");
-  if (!(design_sigma_deg >= 0 && design_sigma_deg <= 90))
-    throw UserError("design_sigma_deg", "must be in [0, 90] degrees (0: every pixel alike)");
+  CheckDesignSigma(design_sigma_deg, "design_sigma_deg");
 }
 
 Plan LoadPlan(const std::string& path, const std::string& relative_to) {

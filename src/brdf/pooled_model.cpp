@@ -31,8 +31,13 @@ void PooledOptions::Check() const {
   if (max_groups < 1 || max_groups > 1024) throw UserError("--max-groups", "must be in [1, 1024]");
   if (sample_pixels < 64 || sample_pixels > (1 << 20))
     throw UserError("--sample-pixels", "must be in [64, 1048576]");
-  if (!(design_sigma_deg >= 0 && design_sigma_deg <= 90))
-    throw UserError("--design-sigma-deg", "must be in [0, 90] degrees (0: every pixel alike)");
+  CheckDesignSigma(design_sigma_deg, "--design-sigma-deg");
+}
+
+void CheckDesignSigma(double deg, const std::string& where) {
+  if (!(deg >= 0 && deg <= kMaxDesignSigmaDeg))
+    throw UserError(where, "must be in [0, " + std::to_string(int(kMaxDesignSigmaDeg)) +
+                               "] degrees (0: every pixel alike)");
 }
 
 void PooledModel::Feature(const float* c, int k, double* feature) const {

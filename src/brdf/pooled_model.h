@@ -37,6 +37,9 @@ const char* ReconstructionMethodName(ReconstructionMethod method);
 std::optional<ReconstructionMethod> ParseReconstructionMethod(const std::string& name);
 
 inline constexpr double kDefaultDesignSigmaDeg = 0.15;
+inline constexpr double kMaxDesignSigmaDeg = 90;
+// Throws UserError at `where` (a flag or a plan key) unless 0 <= deg <= kMaxDesignSigmaDeg.
+void CheckDesignSigma(double deg, const std::string& where);
 
 struct PooledOptions {
   int groups = 0;            // 0: chosen by held-out views; > 0: forced

@@ -230,7 +230,8 @@ int ReconstructSynthetic(const Argv& argv) {
   r.pooled.groups = args.GetInt("groups", 0, 0, 1024);
   r.pooled.max_groups = args.GetInt("max-groups", r.pooled.max_groups, 1, 1024);
   r.pooled.sample_pixels = args.GetInt("sample-pixels", r.pooled.sample_pixels, 64, 1 << 20);
-  r.pooled.design_sigma_deg = args.GetDouble("design-sigma-deg", r.pooled.design_sigma_deg, 0, 90);
+  r.pooled.design_sigma_deg =
+      args.GetDouble("design-sigma-deg", r.pooled.design_sigma_deg, 0, kMaxDesignSigmaDeg);
   r.pooled.seed = o.seed;
   r.normals.enabled = args.Has("normals");
   r.normals.max_tilt_deg = args.GetDouble("normals-max-tilt-deg", r.normals.max_tilt_deg, 1, 59);
