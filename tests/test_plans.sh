@@ -107,6 +107,9 @@ expect "k above the basis" 1 k_too_big.yaml --dry-run -- "k_too_big.yaml:22:6:" 
 variant negative_design 's/^  k: 4$/  k: 4\n  design_sigma_deg: -1/'
 expect "design weighting out of range" 1 negative_design.yaml --dry-run -- \
   "negative_design.yaml:23:" "reconstruction.design_sigma_deg must be in [0, 90] degrees"
+variant empty_bracket 's/bracket_us: \[1000, 8000, 64000\]/bracket_us: []/'
+expect "empty bracket" 1 empty_bracket.yaml --dry-run -- "empty_bracket.yaml:13:" \
+  "camera.hdr.bracket_us is empty" "auto: true"
 grep -v '^#' "$tmp/directions.tsv" | head -3 > "$tmp/two.tsv"  # the header and 2 directions
 variant k_above_directions 's/file: directions.tsv/file: two.tsv/'
 expect "k above the directions" 1 k_above_directions.yaml --dry-run -- "k_above_directions.yaml:22:6:" "the plan has 2 directions"

@@ -347,6 +347,10 @@ CameraSpec ReadCamera(const Section& top, Backend backend) {
   }
   const Section hdr = camera.Child("hdr", {"bracket_us", "auto"});
   c.bracket_us = hdr.Numbers("bracket_us");
+  if (hdr.Has("bracket_us") && c.bracket_us.empty())
+    throw UserError(hdr.Where("bracket_us"), "camera.hdr.bracket_us is empty",
+                    "give the exposures in microseconds, like [1000, 8000, 64000], or auto: true "
+                    "for a bracket chosen from the scene");
   c.auto_bracket = hdr.Flag("auto", c.bracket_us.empty());
   if (c.auto_bracket && !c.bracket_us.empty())
     throw UserError(hdr.Where("auto"), "camera.hdr has both auto and bracket_us",
