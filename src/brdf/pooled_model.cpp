@@ -8,6 +8,7 @@
 #include <random>
 #include <sstream>
 
+#include "brdf/group_merge.h"
 #include "brdf/log_mapping.h"
 #include "brdf/pixel_rows.h"
 #include "core/angles.h"
@@ -347,116 +348,6 @@ std::vector<int> KMeans(const std::vector<SamplePixel>& pixels, int groups, std:
   return label;
 }
 
-// A group's sums for the separation test below: over its pixels, with z the pixel's field
-// terms and f its feature, n, sum z, sum z z^T, sum f, sum z f^T and sum |f|^2.
-struct FieldSums {
-  double n = 0, ff = 0;
-  Eigen::VectorXd z, f;
-  Eigen::MatrixXd zz, zf;
-};
-
-// The field terms of each pixel: the quadratic in its field coordinates, scaled to [-1, 1] over
-// the sample: x, y, x^2, x y, y^2.
-constexpr int kFieldTerms = 5;
-std::vector<Eigen::Matrix<double, kFieldTerms, 1>> FieldTerms(
-    const std::vector<SamplePixel>& pixels) {
-  Eigen::Vector2d lo = Eigen::Vector2d::Constant(INFINITY), hi = -lo;
-  for (const SamplePixel& p : pixels) lo = lo.cwiseMin(p.field), hi = hi.cwiseMax(p.field);
-  const Eigen::Vector2d centre = 0.5 * (lo + hi), half = (0.5 * (hi - lo)).cwiseMax(1e-12);
-  std::vector<Eigen::Matrix<double, kFieldTerms, 1>> terms;
-  for (const SamplePixel& p : pixels) {
-    const Eigen::Vector2d u = (p.field - centre).cwiseQuotient(half);
-    terms.emplace_back();
-    terms.back() << u.x(), u.y(), u.x() * u.x(), u.x() * u.y(), u.y() * u.y();
-  }
-  return terms;
-}
-
-std::vector<FieldSums> SumsPerGroup(const std::vector<SamplePixel>& pixels,
-                                    const std::vector<Eigen::Matrix<double, kFieldTerms, 1>>& z,
-                                    const std::vector<int>& label, int groups) {
-  const int f = int(pixels.front().feature.size());
-  std::vector<FieldSums> sums(groups);
-  for (FieldSums& s : sums) {
-    s.z.setZero(kFieldTerms), s.f.setZero(f);
-    s.zz.setZero(kFieldTerms, kFieldTerms), s.zf.setZero(kFieldTerms, f);
-  }
-  for (std::size_t i = 0; i < pixels.size(); ++i) {
-    FieldSums& s = sums[label[i]];
-    const Eigen::Map<const Eigen::VectorXd> fi(pixels[i].feature.data(), f);
-    s.n += 1, s.ff += fi.squaredNorm();
-    s.z += z[i], s.f += fi;
-    s.zz += z[i] * z[i].transpose(), s.zf += z[i] * fi.transpose();
-  }
-  return sums;
-}
-
-// How far apart groups a and b lie, in units of the narrower one's RMS scatter, with the field's
-// smooth drift taken out of both: the features of both are fitted jointly by an offset per group
-// plus a quadratic in the field coordinates shared by the two, and the offsets' distance is
-// divided by the residual scatter. A material's features drift across the field (its pixels'
-// directions, and with them the first solve's errors, change with position); k-means cuts the
-// drift into pieces that lie side by side in the field and whose offsets then coincide, while
-// two materials seen at the same positions keep theirs. Without the drift taken out, the card
-// at 10 degrees kept pieces of white paint (0.495 without noise, 0.486 on another layout), and
-// through acqd the card's pink jasper, whose mixed stroke pixels scatter widely, was merged into
-// white paint (0.269; docs/reconstruction.md, "Choosing the groups"). With too few pixels for
-// the shared terms, the plain distance of the means over the scatters.
-double Separation(const FieldSums& a, const FieldSums& b) {
-  const int terms = a.n + b.n > 4 * (2 + kFieldTerms) ? kFieldTerms : 0, p = 2 + terms;
-  const Eigen::Index f = a.f.size();
-  Eigen::MatrixXd A = Eigen::MatrixXd::Zero(p, p), R(p, f);
-  A(0, 0) = a.n, A(1, 1) = b.n;
-  R.row(0) = a.f.transpose(), R.row(1) = b.f.transpose();
-  if (terms > 0) {
-    A.block(2, 0, terms, 1) = a.z, A.block(2, 1, terms, 1) = b.z;
-    A.block(0, 2, 1, terms) = a.z.transpose(), A.block(1, 2, 1, terms) = b.z.transpose();
-    A.bottomRightCorner(terms, terms) = a.zz + b.zz;
-    R.bottomRows(terms) = a.zf + b.zf;
-  }
-  A.diagonal().array() += 1e-9 * A.diagonal().maxCoeff();  // a field with no extent
-  const Eigen::MatrixXd beta = A.ldlt().solve(R);
-  const Eigen::MatrixXd W = beta.bottomRows(terms);  // terms x f: the shared drift
-  auto scatter = [&](const FieldSums& s, int row) {
-    const Eigen::VectorXd m = beta.row(row).transpose();
-    double rss = s.ff - 2 * m.dot(s.f) + s.n * m.squaredNorm();
-    if (terms > 0)
-      rss += -2 * (W.array() * s.zf.array()).sum() + 2 * m.dot(W.transpose() * s.z) +
-             (W.array() * (s.zz * W).array()).sum();
-    return std::sqrt(std::max(rss, 0.0) / s.n * (a.n + b.n) / std::max(a.n + b.n - p, 1.0));
-  };
-  return (beta.row(0) - beta.row(1)).norm() / std::min(scatter(a, 0), scatter(b, 1));
-}
-
-// k-means splits a material whose pixels scatter widely (the near field's ill-conditioned
-// pixels scatter most) into pieces that the held-out views then keep: each piece's centre fits
-// its part of the field's directions better, and extrapolates worse. Groups less than kOverlap
-// apart (Separation: the narrower group's scatter, the field's drift taken out) are one blob and
-// are merged (a normal blob cut in two gives halves 2.7 half-scatters apart; the narrower, so
-// that a tight small material next to a wide one keeps its own group).
-constexpr double kOverlap = 3.0;
-int MergeOverlapping(const std::vector<SamplePixel>& pixels, int groups, std::vector<int>* label) {
-  const std::vector<Eigen::Matrix<double, kFieldTerms, 1>> z = FieldTerms(pixels);
-  for (;;) {
-    const std::vector<FieldSums> sums = SumsPerGroup(pixels, z, *label, groups);
-    int merge_a = -1, merge_b = -1;
-    double closest = std::numeric_limits<double>::infinity();
-    for (int a = 0; a < groups; ++a)
-      for (int b = a + 1; b < groups; ++b) {
-        if (sums[a].n == 0 || sums[b].n == 0) continue;
-        const double ratio = Separation(sums[a], sums[b]);
-        if (ratio < kOverlap && ratio < closest) closest = ratio, merge_a = a, merge_b = b;
-      }
-    if (merge_a < 0) break;
-    for (int& l : *label) {
-      if (l == merge_b) l = merge_a;
-      if (l == groups - 1) l = merge_b;  // keep the labels dense
-    }
-    --groups;
-  }
-  return groups;
-}
-
 // Each member's weight in its group's centre, summing to one: exp(-d^2 / 2 sigma^2), d how far
 // (RMS angle) the member's directions lie beyond those of the member nearest the design. Tried:
 // widening sigma for a group whose nearest member is d0 from the design (hypot(sigma, d0)), so
@@ -687,12 +578,21 @@ PooledModel FitPooledModel(const BasisView& basis, const PixelObservations& samp
     for (int g : {1, 2, 3, 4, 6, 8, 12, 16, 24, 32, 48, 64, 96, 128, 192, 256})
       if (g <= options.max_groups && g * 8 <= int(pixels.size())) tried.push_back(g);
   }
+  Eigen::MatrixXd feature_matrix(pixels.size(), 3 * model.features);
+  Eigen::MatrixX2d field_matrix(pixels.size(), 2);
+  for (std::size_t i = 0; i < pixels.size(); ++i) {
+    feature_matrix.row(Eigen::Index(i)) =
+        Eigen::Map<const Eigen::RowVectorXd>(pixels[i].feature.data(), feature_matrix.cols());
+    field_matrix.row(Eigen::Index(i)) = pixels[i].field.transpose();
+  }
   std::vector<int> label;  // the best labelling so far, of `groups` groups
   int groups = 0, previous = 0, worse_in_a_row = 0;
   double best = std::numeric_limits<double>::infinity();
   for (int seeded : tried) {
     std::vector<int> trial = KMeans(pixels, seeded, options.seed);
-    const int size = options.groups > 0 ? seeded : MergeOverlapping(pixels, seeded, &trial);
+    const int size = options.groups > 0
+                         ? seeded
+                         : MergeOverlapping(feature_matrix, field_matrix, seeded, &trial);
     double squared = 0;
     for (const std::vector<int>& members : members_of(trial, size)) {
       if (members.empty()) continue;

@@ -1,0 +1,119 @@
+#include "brdf/group_merge.h"
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace acq {
+namespace {
+
+// The field terms: the quadratic in the field coordinates scaled to [-1, 1] over all pixels.
+// Cubic terms changed nothing measured (docs/reconstruction.md).
+constexpr int kFieldTerms = 5;
+using Terms = Eigen::Matrix<double, kFieldTerms, 1>;
+
+std::vector<Terms> FieldTerms(const Eigen::MatrixX2d& field) {
+  const Eigen::RowVector2d lo = field.colwise().minCoeff(), hi = field.colwise().maxCoeff();
+  const Eigen::RowVector2d centre = 0.5 * (lo + hi), half = (0.5 * (hi - lo)).cwiseMax(1e-12);
+  std::vector<Terms> terms(std::size_t(field.rows()));
+  for (Eigen::Index i = 0; i < field.rows(); ++i) {
+    const Eigen::RowVector2d u = (field.row(i) - centre).cwiseQuotient(half);
+    terms[std::size_t(i)] << u.x(), u.y(), u.x() * u.x(), u.x() * u.y(), u.y() * u.y();
+  }
+  return terms;
+}
+
+// A group's sums over its pixels, z the field terms and f the feature: n, sum z, sum z z^T,
+// sum f, sum z f^T and sum |f|^2. A pair's joint fit needs only these.
+struct GroupSums {
+  double n = 0, ff = 0;
+  Eigen::VectorXd z, f;
+  Eigen::MatrixXd zz, zf;
+};
+
+std::vector<GroupSums> SumsPerGroup(const Eigen::MatrixXd& features, const std::vector<Terms>& z,
+                                    const std::vector<int>& label, int groups) {
+  const Eigen::Index f = features.cols();
+  std::vector<GroupSums> sums;
+  sums.resize(std::size_t(groups));
+  for (GroupSums& s : sums) {
+    s.z.setZero(kFieldTerms), s.f.setZero(f);
+    s.zz.setZero(kFieldTerms, kFieldTerms), s.zf.setZero(kFieldTerms, f);
+  }
+  for (std::size_t i = 0; i < label.size(); ++i) {
+    if (label[i] < 0 || label[i] >= groups) continue;
+    GroupSums& s = sums[std::size_t(label[i])];
+    const Eigen::VectorXd fi = features.row(Eigen::Index(i)).transpose();
+    s.n += 1, s.ff += fi.squaredNorm();
+    s.z += z[i], s.f += fi;
+    s.zz += z[i] * z[i].transpose(), s.zf += z[i] * fi.transpose();
+  }
+  return sums;
+}
+
+double Separation(const GroupSums& a, const GroupSums& b) {
+  const double n = a.n + b.n;
+  const int terms = n > 4 * (2 + kFieldTerms) ? kFieldTerms : 0, p = 2 + terms;
+  Eigen::MatrixXd A = Eigen::MatrixXd::Zero(p, p), R(p, a.f.size());
+  A(0, 0) = a.n, A(1, 1) = b.n;
+  R.row(0) = a.f.transpose(), R.row(1) = b.f.transpose();
+  if (terms > 0) {
+    A.block(2, 0, terms, 1) = a.z, A.block(2, 1, terms, 1) = b.z;
+    A.block(0, 2, 1, terms) = a.z.transpose(), A.block(1, 2, 1, terms) = b.z.transpose();
+    A.bottomRightCorner(terms, terms) = a.zz + b.zz;
+    R.bottomRows(terms) = a.zf + b.zf;
+  }
+  A.diagonal().array() += 1e-9 * A.diagonal().maxCoeff();  // a field of no extent: terms 0
+  const Eigen::MatrixXd beta = A.ldlt().solve(R);
+  const Eigen::MatrixXd drift = beta.bottomRows(terms);  // terms x F, shared by the pair
+  // A group's RMS residual from its sums: |f - m - drift^T z|^2 summed over its pixels, scaled
+  // by n / (n - p) for the parameters fitted.
+  auto scatter = [&](const GroupSums& s, int row) {
+    const Eigen::VectorXd m = beta.row(row).transpose();
+    double rss = s.ff - 2 * m.dot(s.f) + s.n * m.squaredNorm();
+    if (terms > 0)
+      rss += -2 * (drift.array() * s.zf.array()).sum() + 2 * m.dot(drift.transpose() * s.z) +
+             (drift.array() * (s.zz * drift).array()).sum();
+    return std::sqrt(std::max(rss, 0.0) / s.n * n / std::max(n - p, 1.0));
+  };
+  const double narrower = std::min(scatter(a, 0), scatter(b, 1));
+  const double distance = (beta.row(0) - beta.row(1)).norm();
+  return narrower > 0 ? distance / narrower : std::numeric_limits<double>::infinity();
+}
+
+}  // namespace
+
+double GroupSeparation(const Eigen::MatrixXd& features, const Eigen::MatrixX2d& field,
+                       const std::vector<int>& label, int a, int b) {
+  const int groups = std::max(a, b) + 1;
+  const std::vector<GroupSums> sums = SumsPerGroup(features, FieldTerms(field), label, groups);
+  if (sums[std::size_t(a)].n == 0 || sums[std::size_t(b)].n == 0)
+    return std::numeric_limits<double>::infinity();
+  return Separation(sums[std::size_t(a)], sums[std::size_t(b)]);
+}
+
+int MergeOverlapping(const Eigen::MatrixXd& features, const Eigen::MatrixX2d& field, int groups,
+                     std::vector<int>* label) {
+  const std::vector<Terms> z = FieldTerms(field);
+  for (;;) {
+    const std::vector<GroupSums> sums = SumsPerGroup(features, z, *label, groups);
+    int merge_a = -1, merge_b = -1;
+    double closest = std::numeric_limits<double>::infinity();
+    for (int a = 0; a < groups; ++a)
+      for (int b = a + 1; b < groups; ++b) {
+        if (sums[std::size_t(a)].n == 0 || sums[std::size_t(b)].n == 0) continue;
+        const double ratio = Separation(sums[std::size_t(a)], sums[std::size_t(b)]);
+        if (ratio < kMergeSeparation && ratio < closest) closest = ratio, merge_a = a, merge_b = b;
+      }
+    if (merge_a < 0) break;
+    for (int& l : *label) {
+      if (l == merge_b) l = merge_a;
+      if (l == groups - 1) l = merge_b;  // keep the labels dense
+    }
+    --groups;
+  }
+  return groups;
+}
+
+}  // namespace acq
