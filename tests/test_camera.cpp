@@ -284,13 +284,49 @@ TEST_CASE("hdr: a bracket recovers a 1e5:1 radiance range", "[hdr]") {
   // 85%. The median pixel is seen by several frames with >1000 e-: ~1%, so 3% median.
   CHECK(errors[n / 2] < 0.03);
   CHECK(worst < 0.85);
-  // Saturated and dark everywhere are flagged, not invented.
+  // Saturated everywhere is flagged, not invented; a pixel in the noise floor is measured
+  // (3 counts in the frame: 3 counts over its exposure), not dropped.
   Frame bright = frames.front();
   std::fill(bright.pixels.begin(), bright.pixels.end(), 65535);
   Frame dark = frames.back();
   std::fill(dark.pixels.begin(), dark.pixels.end(), 3);
   CHECK(MergeBracket({bright}, options).flag[0] == kHdrSaturated);
-  CHECK(MergeBracket({dark}, options).flag[0] == kHdrDark);
+  const HdrImage floor = MergeBracket({dark}, options);
+  CHECK(floor.flag[0] == kHdrOk);
+  CHECK(floor.radiance[0] == Approx(3.0 / dark.exposure_us));
+}
+
+TEST_CASE("hdr: the dark end is not biased by a noise floor", "[hdr]") {
+  // A flat dark patch, 2 e- a pixel in the longest frame against 4 e- of read noise: half its
+  // values lie near zero. The merge before 2026-12-03 averaged the frames whose values lay over
+  // a floor of 16 counts (4.9 e-) and dropped the rest: the kept values were the ones noise put
+  // high. Averaging every frame instead lifts the mean by the clip at zero counts of each short
+  // frame, scaled up by its short exposure: measured +200%. The longest frame alone is biased only
+  // by its own clip at zero: E[max(0, x)] for x ~ N(2, 4.2) e- is 2.9 e-, +44%.
+  const int n = 20000;
+  sim::SensorModel sensor;
+  const double t = 163840, electrons = 2;
+  const std::vector<float> radiance(n, float(electrons / (sensor.quantum_scale * t)));
+  std::vector<Frame> frames;
+  for (double e = t / 64; e <= t; e *= 4) {
+    Frame f;
+    f.width = n;
+    f.height = 1;
+    f.exposure_us = e;
+    f.pixels = sim::Expose(radiance, e, 0, 65535, sensor, std::uint64_t(e));
+    frames.push_back(std::move(f));
+  }
+  const HdrImage hdr = MergeBracket(frames, HdrOptions{});
+  const double truth = radiance[0] * sensor.CountsPerRadianceUs(65535);
+  double sum = 0;
+  for (int i = 0; i < n; ++i) {
+    REQUIRE(hdr.flag[std::size_t(i)] == kHdrOk);  // every pixel measured, none dropped
+    sum += hdr.radiance[std::size_t(i)];
+  }
+  const double bias = sum / n / truth - 1;
+  WARN("dark patch: merged mean " << 100 * bias << "% off the truth");
+  // 44% expected from the clip at zero; 20000 pixels put the mean's own noise at 1%.
+  CHECK(bias == Approx(0.44).margin(0.05));
 }
 
 TEST_CASE("replay: a recorded bracket is served again in order; other settings are refused",

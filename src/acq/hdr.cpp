@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 
 #include "core/error.h"
 
@@ -42,48 +43,35 @@ HdrImage MergeBracket(const std::vector<Frame>& frames, const HdrOptions& option
                       "take a pose's bracket in one pixel format");
   }
   out.cfa = CfaOf(frames[0].pixel_format);
-  // Shortest first: the fallback for pixels saturated everywhere is the shortest frame, for
-  // pixels dark everywhere the longest.
+  // Shortest first: the fallback for pixels saturated everywhere is the shortest frame.
   std::vector<const Frame*> sorted;
   for (const Frame& f : frames) sorted.push_back(&f);
   std::sort(sorted.begin(), sorted.end(),
             [](const Frame* a, const Frame* b) { return a->exposure_us < b->exposure_us; });
   struct Scale {
     const std::uint16_t* pixels;
-    double saturated, per_count, weight;
+    double saturated, per_count;
   };
   std::vector<Scale> scales;
   for (const Frame* f : sorted) {
     const double gain = std::pow(10.0, f->gain_db / 20);
     scales.push_back({f->pixels.data(), options.saturation_fraction * f->MaxValue(),
-                      1.0 / (f->exposure_us * gain), f->exposure_us * gain});
+                      1.0 / (f->exposure_us * gain)});
   }
   const std::size_t n = std::size_t(out.width) * std::size_t(out.height);
   out.radiance.assign(n, 0.f);
   out.flag.assign(n, kHdrOk);
   out.used.assign(n, 0);
-  const double floor = options.black_level_dn + options.noise_floor_dn;
+  const double black = options.black_level_dn;
 #pragma omp parallel for
   for (std::ptrdiff_t i = 0; i < std::ptrdiff_t(n); ++i) {
-    double sum = 0, weights = 0;
-    int used = 0;
-    bool any_below_saturation = false;
-    for (const Scale& s : scales) {
-      const double v = s.pixels[i];
-      if (v < s.saturated) any_below_saturation = true;
-      if (v >= s.saturated || v < floor) continue;
-      sum += s.weight * (v - options.black_level_dn) * s.per_count;
-      weights += s.weight;
-      ++used;
-    }
-    if (used) {
-      out.radiance[i] = float(sum / weights);
-    } else {
-      const Scale& s = any_below_saturation ? scales.back() : scales.front();
-      out.radiance[i] = float(std::max(0.0, s.pixels[i] - options.black_level_dn) * s.per_count);
-      out.flag[i] = any_below_saturation ? kHdrDark : kHdrSaturated;
-    }
-    out.used[i] = std::uint8_t(used);
+    auto s = scales.rbegin();  // the longest frame below saturation
+    while (s != scales.rend() && s->pixels[i] >= s->saturated) ++s;
+    const bool saturated = s == scales.rend();
+    if (saturated) s = std::prev(scales.rend());  // the shortest
+    out.radiance[i] = float(std::max(0.0, s->pixels[i] - black) * s->per_count);
+    out.flag[i] = saturated ? kHdrSaturated : kHdrOk;
+    out.used[i] = saturated ? 0 : 1;
   }
   return out;
 }
