@@ -249,6 +249,22 @@ TEST_CASE(
   CHECK(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() < 30);
 }
 
+// One row of radiance exposed as the simulated sensor would (16 bits), at each exposure from
+// `shortest` in 2-stop steps up to `longest`; each frame seeded by its exposure.
+std::vector<Frame> ExposeRow(const std::vector<float>& radiance, const sim::SensorModel& sensor,
+                             double shortest, double longest) {
+  std::vector<Frame> frames;
+  for (double t = shortest; t <= longest; t *= 4) {
+    Frame f;
+    f.width = int(radiance.size());
+    f.height = 1;
+    f.exposure_us = t;
+    f.pixels = sim::Expose(radiance, t, 0, 65535, sensor, std::uint64_t(t));
+    frames.push_back(std::move(f));
+  }
+  return frames;
+}
+
 TEST_CASE("hdr: a bracket recovers a 1e5:1 radiance range", "[hdr]") {
   // A ramp of radiance over five decades, exposed as the simulated sensor would (shot and read
   // noise, 16 bits, full well 20000 e-), in a bracket of 2-stop steps from 10 us to 164 ms.
@@ -256,15 +272,7 @@ TEST_CASE("hdr: a bracket recovers a 1e5:1 radiance range", "[hdr]") {
   std::vector<float> radiance(n);
   for (int i = 0; i < n; ++i) radiance[i] = float(20.0 * std::pow(1e-5, double(i) / (n - 1)));
   sim::SensorModel sensor;
-  std::vector<Frame> frames;
-  for (double t = 10; t <= 200000; t *= 4) {
-    Frame f;
-    f.width = n;
-    f.height = 1;
-    f.exposure_us = t;
-    f.pixels = sim::Expose(radiance, t, 0, 65535, sensor, std::uint64_t(t));
-    frames.push_back(std::move(f));
-  }
+  const std::vector<Frame> frames = ExposeRow(radiance, sensor, 10, 200000);
   HdrOptions options;
   options.noise_floor_dn = 16;  // 4.9 e- at 3.28 DN/e-: just above the 4 e- read noise
   const HdrImage hdr = MergeBracket(frames, options);
@@ -307,15 +315,7 @@ TEST_CASE("hdr: the dark end is not biased by a noise floor", "[hdr]") {
   sim::SensorModel sensor;
   const double t = 163840, electrons = 2;
   const std::vector<float> radiance(n, float(electrons / (sensor.quantum_scale * t)));
-  std::vector<Frame> frames;
-  for (double e = t / 64; e <= t; e *= 4) {
-    Frame f;
-    f.width = n;
-    f.height = 1;
-    f.exposure_us = e;
-    f.pixels = sim::Expose(radiance, e, 0, 65535, sensor, std::uint64_t(e));
-    frames.push_back(std::move(f));
-  }
+  const std::vector<Frame> frames = ExposeRow(radiance, sensor, t / 64, t);
   const HdrImage hdr = MergeBracket(frames, HdrOptions{});
   const double truth = radiance[0] * sensor.CountsPerRadianceUs(65535);
   double sum = 0;
