@@ -10,8 +10,10 @@
 #include <vector>
 
 #include "hw/frame_file.h"
+#include "io/float_planes_exr.h"
 #include "io/session_catalog.h"
 #include "session/frame_writer.h"
+#include "session/pose_hdr.h"
 #include "test_helpers.h"
 
 using namespace acq;
@@ -80,4 +82,33 @@ TEST_CASE("frame writer: a failure to write comes back to the capture, nothing a
   CHECK_THROWS(writer.Write(TestFrame(1), {}, Row(1)));
   CHECK_THROWS(writer.After([] {}));
   CHECK(catalog.Frames().empty());
+}
+
+TEST_CASE("pose hdr: reused when merged by this rule, merged again when not", "[session]") {
+  // A pose's hdr file is derived data: one merged by an earlier rule (before 2026-12-03 the merge
+  // dropped values under a noise floor) must not be mixed into a session merged by this one.
+  const test::TempDir tmp;
+  fs::create_directories(tmp / "frames");
+  SessionCatalog catalog(tmp / "");
+  {
+    FrameWriter writer(catalog, 2);
+    writer.Write(TestFrame(100), {{"arms_measured_deg", "10 20 30 40"}}, Row(0));
+  }
+  const std::vector<CatalogFrame> frames = catalog.Frames();
+  double seconds = 0;
+  const PoseHdr first = MergePose(tmp / "", Step::kSample, 0, frames, &seconds);
+  const std::string path = tmp / ("hdr/" + PoseName(Step::kSample, 0) + ".exr");
+  FloatPlanes file = ReadFloatPlanesExr(path);
+  CHECK(file.attributes["merge"] == kHdrMergeRule);
+  // Read back, not merged again: a plane changed in the file comes back changed.
+  file.planes["flag"][0] = float(kHdrSaturated);
+  WriteFloatPlanesExr(path, file);
+  CHECK(MergePose(tmp / "", Step::kSample, 0, frames, &seconds).hdr.flag[0] == kHdrSaturated);
+  // The same file recorded as merged by another rule: merged again from the frames.
+  file.attributes["merge"] = "an earlier rule";
+  WriteFloatPlanesExr(path, file);
+  const PoseHdr again = MergePose(tmp / "", Step::kSample, 0, frames, &seconds);
+  CHECK(again.hdr.flag[0] == kHdrOk);
+  CHECK(again.hdr.radiance == first.hdr.radiance);
+  CHECK(ReadFloatPlanesExr(path).attributes["merge"] == kHdrMergeRule);
 }

@@ -20,6 +20,10 @@
 
 namespace acq {
 
+// The merge's rule, recorded in each pose's hdr file: a file merged by another rule is merged
+// again rather than reused (the rule changed on 2026-12-03).
+inline constexpr const char* kHdrMergeRule = "longest frame below saturation";
+
 struct HdrOptions {
   double saturation_fraction = 0.95;  // counts at or above this share of full scale: saturated
   double black_level_dn = 0;          // the sensor's offset, in counts

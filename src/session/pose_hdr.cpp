@@ -24,7 +24,8 @@ std::string FrameList(const std::vector<CatalogFrame>& frames) {
   return list;
 }
 
-// The hdr file of these frames when it is up to date: it names them and is newer than each.
+// The hdr file of these frames when it is up to date: it names them, is newer than each and was
+// merged by this rule.
 bool ReadUpToDate(const std::string& path, const std::string& dir,
                   const std::vector<CatalogFrame>& frames, PoseHdr* out) {
   std::error_code ec;
@@ -42,7 +43,7 @@ bool ReadUpToDate(const std::string& path, const std::string& dir,
   }
   bool colour = true;
   for (const char* c : kColourPlanes) colour = colour && file.planes.count(c);
-  if (file.attributes["frames"] != FrameList(frames) ||
+  if (file.attributes["frames"] != FrameList(frames) || file.attributes["merge"] != kHdrMergeRule ||
       !(colour || file.planes.count("radiance")) || !file.planes.count("flag"))
     return false;
   out->hdr.width = file.width;
@@ -109,6 +110,7 @@ PoseHdr MergePose(const std::string& dir, Step step, int pose,
     }
     file.planes["flag"].assign(p.hdr.flag.begin(), p.hdr.flag.end());
     file.attributes["unit"] = "counts per microsecond at 0 dB";
+    file.attributes["merge"] = kHdrMergeRule;
     file.attributes["frames"] = FrameList(frames);
     file.attributes["arms_measured_deg"] = attributes["arms_measured_deg"];
     file.attributes["direction"] = p.direction;
