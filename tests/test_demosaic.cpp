@@ -19,7 +19,6 @@ HdrImage MosaicOf(Cfa cfa, int w, int h, F rgb) {
   m.cfa = cfa;
   m.radiance.resize(std::size_t(w) * h);
   m.flag.assign(std::size_t(w) * h, kHdrOk);
-  m.used.assign(std::size_t(w) * h, 1);
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x)
       m.radiance[std::size_t(y) * w + x] = float(rgb(x, y)[CfaChannel(cfa, x, y)]);

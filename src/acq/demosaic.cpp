@@ -116,7 +116,6 @@ HdrImage Demosaic(HdrImage mosaic, DemosaicMethod method) {
         out.radiance[c * n + std::size_t(y) * w + x] =
             method == DemosaicMethod::kMalvar ? Malvar(m, x, y, c) : Bilinear(m, x, y, c);
   out.flag = SpreadFlags(mosaic, method == DemosaicMethod::kMalvar ? 2 : 1);
-  out.used = std::move(mosaic.used);
   return out;
 }
 

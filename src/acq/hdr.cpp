@@ -61,7 +61,6 @@ HdrImage MergeBracket(const std::vector<Frame>& frames, const HdrOptions& option
   const std::size_t n = std::size_t(out.width) * std::size_t(out.height);
   out.radiance.assign(n, 0.f);
   out.flag.assign(n, kHdrOk);
-  out.used.assign(n, 0);
   const double black = options.black_level_dn;
 #pragma omp parallel for
   for (std::ptrdiff_t i = 0; i < std::ptrdiff_t(n); ++i) {
@@ -71,7 +70,6 @@ HdrImage MergeBracket(const std::vector<Frame>& frames, const HdrOptions& option
     if (saturated) s = std::prev(scales.rend());  // the shortest
     out.radiance[i] = float(std::max(0.0, s->pixels[i] - black) * s->per_count);
     out.flag[i] = saturated ? kHdrSaturated : kHdrOk;
-    out.used[i] = saturated ? 0 : 1;
   }
   return out;
 }

@@ -45,7 +45,6 @@ struct HdrImage {
   int channels = 1;                // 1, or 3: camera R, G, B planes one after the other
   std::vector<float> radiance;     // counts per microsecond at 0 dB, `channels` planes
   std::vector<std::uint8_t> flag;  // HdrFlag per pixel (any channel's)
-  std::vector<std::uint8_t> used;  // 1: its value is from a frame below saturation; 0: none was
   const float* Plane(int channel) const {
     return radiance.data() + std::size_t(channel) * std::size_t(width) * std::size_t(height);
   }

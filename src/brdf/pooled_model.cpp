@@ -225,17 +225,13 @@ std::vector<SamplePixel> PrepareSample(const BasisView& basis, const PixelObserv
       if (n < solve.MinObservations()) continue;
       double offset = 0;
       for (int v : p.view) {
-        offset += std::pow(Angle(obs.light[obs.At(i, v)].cast<double>(), mean_light[v]), 2);
-        offset += std::pow(Angle(obs.camera[obs.At(i, v)].cast<double>(), mean_camera[v]), 2);
+        const Eigen::Vector3d l = obs.light[obs.At(i, v)].cast<double>();
+        const Eigen::Vector3d c = obs.camera[obs.At(i, v)].cast<double>();
+        offset += std::pow(Angle(l, mean_light[v]), 2) + std::pow(Angle(c, mean_camera[v]), 2);
+        p.field += (l - mean_light[v] + c - mean_camera[v]).head<2>() / double(n);
       }
       p.design_offset = std::sqrt(offset / (2.0 * n));
       if (!std::isfinite(p.design_offset)) p.design_offset = kPi;  // the least trusted
-      for (int v : p.view)
-        p.field += (obs.light[obs.At(i, v)] - mean_light[v].cast<float>() +
-                    obs.camera[obs.At(i, v)] - mean_camera[v].cast<float>())
-                       .head<2>()
-                       .cast<double>();
-      p.field /= double(n);
       if (!p.field.allFinite()) p.field.setZero();
       p.rows.resize(n, K);
       p.y.resize(n, 3);
