@@ -54,10 +54,28 @@ for lookup in nearest interpolated; do
 done
 
 check "export pbr" "$acq" export pbr --map "$tmp/nearest.exr" -o "$tmp/pbr" --quiet
+check "export pbr --model schlick" "$acq" export pbr --map "$tmp/nearest.exr" -o "$tmp/pbr-schlick" --model schlick --quiet
 check "glTF passes the Khronos validator with no errors" \
   node "$root/tests/gltf_validate.js" "$validator" "$tmp/pbr/material.gltf"
 check "MaterialX document passes MaterialX's validation; fit error map finite" \
   "$python" "$root/tests/export_checks.py" pbr "$tmp/pbr"
+# The model's layers in both documents: F90 as glTF's specularTexture and standard_surface's
+# specular; a coat (brass and white paint take one) as KHR_materials_clearcoat and the coat.
+# The model without them (schlick) writes neither coat.png nor the extension, F90 1 everywhere.
+check "F90 and the coat reach the glTF and the MaterialX document; schlick writes neither" \
+  "$python" -c "import json
+fit = json.load(open('$tmp/pbr/fit.json')); assert fit['model'] == 'coated' and fit['coated_pixels'] > 0, fit
+g = json.load(open('$tmp/pbr/material.gltf')); e = g['materials'][0]['extensions']
+uri = lambda t: g['images'][g['textures'][t['index']]['source']]['uri']
+assert uri(e['KHR_materials_specular']['specularTexture']) == 'specular_weight.png', e
+c = e['KHR_materials_clearcoat']; assert uri(c['clearcoatTexture']) == uri(c['clearcoatRoughnessTexture']) == 'coat.png', c
+assert 'KHR_materials_clearcoat' in g['extensionsUsed']
+m = open('$tmp/pbr/material.mtlx').read(); assert 'coat.png' in m and 'specular_weight.png' in m
+import os; g2 = json.load(open('$tmp/pbr-schlick/material.gltf'))
+assert 'KHR_materials_clearcoat' not in g2['extensionsUsed'] and not os.path.exists('$tmp/pbr-schlick/coat.png')
+assert json.load(open('$tmp/pbr-schlick/fit.json'))['coated_pixels'] == 0
+import mitsuba as mi, numpy as np; mi.set_variant('scalar_rgb')
+w = np.array(mi.Bitmap('$tmp/pbr-schlick/specular_weight.png')); assert w.shape[2] == 4 and (w == 255).all(), w.shape"
 
 # A map with estimated normals (an embossed card): normal.png, the glTF's normalTexture with
 # the quad's tangents, the MaterialX normal map; both still valid.
@@ -108,7 +126,9 @@ expect_error "a map without its basis" "b.acqb" -- \
 mv "$tmp/moved.acqb" "$tmp/b.acqb"
 expect_error "a session without validation data" "validation" -- \
   "$acq" export pbr --map "$tmp/nearest.exr" --session "$tmp/pbr" -o "$tmp/x3" --quiet
-for d in x1 x2 x3; do
+expect_error "an unknown model" "unknown model 'lambert'" -- \
+  "$acq" export pbr --map "$tmp/nearest.exr" --model lambert -o "$tmp/x4" --quiet
+for d in x1 x2 x3 x4; do
   if [ -e "$tmp/$d" ]; then failures=$((failures + 1)); echo "FAIL: a refused export left $d"; fi
 done
 

@@ -32,20 +32,88 @@ const PbrFitGrid& Grid() {
 
 TEST_CASE("pbr fit: the model's own BRDF is recovered, glossy and rough", "[pbr]") {
   REQUIRE(Grid().Size() > 500);
-  for (const PbrParameters truth : {PbrParameters{{0.6, 0.5, 0.3}, {0.04, 0.04, 0.04}, 0.3},
-                                    PbrParameters{{0.05, 0.1, 0.02}, {0.9, 0.6, 0.3}, 0.08},
-                                    PbrParameters{{0.2, 0.2, 0.2}, {0.02, 0.03, 0.05}, 0.8}}) {
+  for (const PbrParameters& truth : {PbrParameters{{0.6, 0.5, 0.3}, {0.04, 0.04, 0.04}, 0.3},
+                                     PbrParameters{{0.05, 0.1, 0.02}, {0.9, 0.6, 0.3}, 0.08},
+                                     PbrParameters{{0.2, 0.2, 0.2}, {0.02, 0.03, 0.05}, 0.8}}) {
     const PbrFit fit = FitPbr(Grid(), TargetOf(Grid(), truth).data(), PbrFitOptions{});
     INFO("roughness " << truth.roughness << " fitted " << fit.parameters.roughness);
     CHECK(fit.converged);
     // Exact data: the fit reaches it to the float rounding of the target (1e-7 relative).
     CHECK(fit.log_rmse < 1e-3);
+    // The default model has F90 and a coat, which these do not need: none is made up.
+    CHECK(fit.parameters.coat == 0);
+    CHECK(fit.parameters.specular == Approx(1).margin(0.005));
     CHECK(fit.parameters.roughness == Approx(truth.roughness).epsilon(0.01));
     for (int c = 0; c < 3; ++c) {
       CHECK(fit.parameters.diffuse[c] == Approx(truth.diffuse[c]).margin(0.005));
       CHECK(fit.parameters.f0[c] == Approx(truth.f0[c]).margin(0.005));
     }
   }
+}
+
+TEST_CASE("pbr fit: a lobe that does not rise to 1 at grazing is recovered by F90", "[pbr]") {
+  // White paint's fit (docs/export.md): F90 0.14-0.3, F0 / F90 under 0.01.
+  PbrParameters truth{{0.35, 0.33, 0.3}, {0.02, 0.02, 0.03}, 0.15};
+  truth.specular = 0.25;
+  const std::vector<float> t = TargetOf(Grid(), truth);
+  PbrFitOptions schlick, weighted;
+  schlick.model = PbrModel::kSchlick;
+  weighted.model = PbrModel::kWeighted;
+  const PbrFit without = FitPbr(Grid(), t.data(), schlick);
+  const PbrFit with = FitPbr(Grid(), t.data(), weighted);
+  CHECK(without.parameters.specular == 1);  // the model without F90 holds it
+  // F90 = 1 cannot follow a Fresnel rise four times lower: the grazing bins miss by far more
+  // than the float rounding the right model reaches.
+  CHECK(without.log_rmse > 0.05);
+  CHECK(with.log_rmse < 1e-3);
+  CHECK(with.parameters.specular == Approx(truth.specular).epsilon(0.01));
+  CHECK(with.parameters.roughness == Approx(truth.roughness).epsilon(0.01));
+  for (int c = 0; c < 3; ++c) CHECK(with.parameters.f0[c] == Approx(truth.f0[c]).margin(0.002));
+}
+
+TEST_CASE("pbr fit: a peak over a broad shoulder takes a coat, and only then", "[pbr]") {
+  // A glossy paint: a broad dim lobe and a sharp coat over it.
+  PbrParameters truth{{0.3, 0.3, 0.3}, {0.05, 0.05, 0.05}, 0.5};
+  truth.coat = 0.8;
+  truth.coat_roughness = 0.08;
+  const std::vector<float> t = TargetOf(Grid(), truth);
+  PbrFitOptions weighted;
+  weighted.model = PbrModel::kWeighted;
+  const PbrFit one = FitPbr(Grid(), t.data(), weighted);
+  const PbrFit coated = FitPbr(Grid(), t.data(), PbrFitOptions{});
+  INFO("one lobe " << one.log_rmse << ", coated " << coated.log_rmse << " coat "
+                   << coated.parameters.coat << " at " << coated.parameters.coat_roughness);
+  CHECK(one.parameters.coat == 0);
+  CHECK(one.log_rmse > 0.1);  // one lobe cannot follow both
+  CHECK(coated.uncoated_log_rmse == Approx(one.log_rmse).epsilon(1e-6));
+  // Exact data and the right model: a minimum at the float rounding, but the coat's starts are
+  // the fit's guesses, so a local minimum near it is allowed (under a tenth of one lobe's).
+  CHECK(coated.log_rmse < 0.01);
+  CHECK(coated.parameters.coat == Approx(truth.coat).epsilon(0.05));
+  CHECK(coated.parameters.coat_roughness == Approx(truth.coat_roughness).epsilon(0.05));
+  CHECK(coated.parameters.roughness == Approx(truth.roughness).epsilon(0.05));
+}
+
+TEST_CASE("pbr fit: noise alone never buys a coat", "[pbr]") {
+  // One lobe and 10% multiplicative noise: a coat can fit some of the noise, but never the
+  // kPbrCoatMinGain (10%) of the RMS that it must buy to be kept.
+  const PbrParameters truth{{0.4, 0.35, 0.3}, {0.04, 0.04, 0.04}, 0.25};
+  for (unsigned seed : {1u, 2u, 3u}) {
+    std::vector<float> t = TargetOf(Grid(), truth);
+    std::mt19937 rng(seed);
+    std::normal_distribution<double> noise(0, 0.1);
+    for (float& v : t) v = float(v * std::exp(noise(rng)));
+    const PbrFit fit = FitPbr(Grid(), t.data(), PbrFitOptions{});
+    INFO("seed " << seed << ": " << fit.log_rmse << " against " << fit.uncoated_log_rmse);
+    CHECK(fit.parameters.coat == 0);
+    CHECK(fit.log_rmse == fit.uncoated_log_rmse);
+  }
+}
+
+TEST_CASE("pbr fit: the model's name is parsed, an unknown one refused", "[pbr]") {
+  for (PbrModel m : {PbrModel::kSchlick, PbrModel::kWeighted, PbrModel::kCoated})
+    CHECK(ParsePbrModel(PbrModelName(m), "--model") == m);
+  CHECK_THROWS_WITH(ParsePbrModel("ggx2", "--model"), Catch::Contains("unknown model 'ggx2'"));
 }
 
 TEST_CASE("pbr fit: 5% multiplicative noise moves the parameters by about its mean", "[pbr]") {

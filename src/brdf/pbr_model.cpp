@@ -3,6 +3,8 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
+#include <utility>
 
 #include "brdf/log_mapping.h"
 #include "core/error.h"
@@ -113,10 +115,14 @@ double RoughnessAt(int j, int steps) {
   return kPbrMinRoughness * std::pow(kPbrMaxRoughness / kPbrMinRoughness, f);
 }
 
-// The coarse search: per roughness, the weighted linear fit of diffuse and F0 per channel in
-// the linearised log error (weights cosw / (t cosw + eps), squared), the best roughness's
+// The specular weights the coarse search tries: 1 (Schlick's Fresnel to 1 at grazing) and two
+// lower (measured materials that do not rise as far: white paint fits at 0.29).
+constexpr double kCoarseSpecular[] = {1.0, 0.3, 0.1};
+
+// The coarse search: per specular weight and roughness, the weighted linear fit of diffuse and
+// F0 per channel in the linearised log error (weights cosw / (t cosw + eps), squared), the best
 // solution.
-PbrParameters CoarseSearch(const FitData& d, int steps) {
+PbrParameters CoarseSearch(const FitData& d, int steps, PbrModel model) {
   std::array<Eigen::ArrayXd, 3> W;
   for (int c = 0; c < 3; ++c)
     W[c] = (d.cos_weight / (d.t[c] * d.cos_weight + kLogMappingEps)).square();
@@ -125,34 +131,46 @@ PbrParameters CoarseSearch(const FitData& d, int steps) {
   for (int j = 0; j < steps; ++j) {
     const double roughness = RoughnessAt(j, steps);
     const Eigen::ArrayXd lobe = LobeOver(d, roughness * roughness);
-    const Eigen::ArrayXd b2 = lobe * (1 - d.schlick), b3 = lobe * d.schlick;
-    PbrParameters p;
-    p.roughness = roughness;
-    double error = 0;
-    for (int c = 0; c < 3; ++c) {
-      const Eigen::ArrayXd dt = d.t[c] - b3, wb2 = W[c] * b2;
-      Eigen::Matrix2d A;
-      A(0, 0) = W[c].sum() / (kPi * kPi);
-      A(0, 1) = A(1, 0) = wb2.sum() / kPi;
-      A(1, 1) = (wb2 * b2).sum();
-      const Eigen::Vector2d r((W[c] * dt).sum() / kPi, (wb2 * dt).sum());
-      const ChannelSolve s = SolveBounded(A, r, (W[c] * dt.square()).sum());
-      p.diffuse[c] = s.a;
-      p.f0[c] = s.b;
-      error += s.error;
+    for (const double specular : kCoarseSpecular) {
+      if (model == PbrModel::kSchlick && specular != 1.0) continue;
+      const Eigen::ArrayXd b2 = specular * lobe * (1 - d.schlick), b3 = specular * lobe * d.schlick;
+      PbrParameters p;
+      p.roughness = roughness;
+      p.specular = specular;
+      double error = 0;
+      for (int c = 0; c < 3; ++c) {
+        const Eigen::ArrayXd dt = d.t[c] - b3, wb2 = W[c] * b2;
+        Eigen::Matrix2d A;
+        A(0, 0) = W[c].sum() / (kPi * kPi);
+        A(0, 1) = A(1, 0) = wb2.sum() / kPi;
+        A(1, 1) = (wb2 * b2).sum();
+        const Eigen::Vector2d r((W[c] * dt).sum() / kPi, (wb2 * dt).sum());
+        const ChannelSolve s = SolveBounded(A, r, (W[c] * dt.square()).sum());
+        p.diffuse[c] = s.a;
+        p.f0[c] = s.b;
+        error += s.error;
+      }
+      if (error < best_error) best_error = error, best = p;
     }
-    if (error < best_error) best_error = error, best = p;
   }
   return best;
 }
 
-// The seven parameters as one vector: diffuse R G B, F0 R G B, ln roughness.
-using Theta = Eigen::Matrix<double, 7, 1>;
+// The parameters as one vector: diffuse R G B, F0 R G B, ln roughness, specular weight, coat
+// weight, ln coat roughness. Without a coat the last two are held at 0 and ln 0.1.
+constexpr int kParameters = 10;
+constexpr int kSpecularAt = 7;
+constexpr int kCoatAt = 8;  // the first of the coat's two
+using Theta = Eigen::Matrix<double, kParameters, 1>;
+using Normal = Eigen::Matrix<double, kParameters, kParameters>;
 
 Theta Pack(const PbrParameters& p) {
   Theta t;
   for (int c = 0; c < 3; ++c) t(c) = p.diffuse[c], t(3 + c) = p.f0[c];
   t(6) = std::log(p.roughness);
+  t(kSpecularAt) = p.specular;
+  t(8) = p.coat;
+  t(9) = std::log(p.coat_roughness);
   return t;
 }
 
@@ -160,27 +178,49 @@ PbrParameters Unpack(const Theta& t) {
   PbrParameters p;
   for (int c = 0; c < 3; ++c) p.diffuse[c] = t(c), p.f0[c] = t(3 + c);
   p.roughness = std::exp(t(6));
+  p.specular = t(kSpecularAt);
+  p.coat = t(8);
+  p.coat_roughness = std::exp(t(9));
   return p;
 }
 
+struct Bounds {
+  Theta lo, hi;
+};
+
+Bounds ParameterBounds() {
+  Bounds b;
+  for (int c = 0; c < 3; ++c) b.lo(c) = 0, b.hi(c) = INFINITY, b.lo(3 + c) = 0, b.hi(3 + c) = 1;
+  b.lo(6) = b.lo(9) = std::log(kPbrMinRoughness);
+  b.hi(6) = b.hi(9) = std::log(kPbrMaxRoughness);
+  b.lo(kSpecularAt) = b.lo(kCoatAt) = 0, b.hi(kSpecularAt) = b.hi(kCoatAt) = 1;
+  return b;
+}
+
 void Project(Theta* t) {
-  for (int c = 0; c < 3; ++c) {
-    (*t)(c) = std::max((*t)(c), 0.0);
-    (*t)(3 + c) = std::clamp((*t)(3 + c), 0.0, 1.0);
-  }
-  (*t)(6) = std::clamp((*t)(6), std::log(kPbrMinRoughness), std::log(kPbrMaxRoughness));
+  static const Bounds b = ParameterBounds();
+  *t = t->cwiseMax(b.lo).cwiseMin(b.hi);
 }
 
 // A parameter on a bound that the gradient pushes outwards is held there (its row and column
 // taken out of the step): projecting a step that crosses it instead only creeps along the bound
 // (measured: 40-120 iterations for a rough fabric at roughness 1, 5-20 with the bound held).
-void HoldActiveBounds(const Theta& theta, Eigen::Matrix<double, 7, 7>* a, Theta* g) {
-  Theta lo, hi;
-  for (int c = 0; c < 3; ++c) lo(c) = 0, hi(c) = INFINITY, lo(3 + c) = 0, hi(3 + c) = 1;
-  lo(6) = std::log(kPbrMinRoughness), hi(6) = std::log(kPbrMaxRoughness);
-  for (int i = 0; i < 7; ++i) {
+// The parameters a model leaves out (`fixed`) are held always.
+using Fixed = std::array<bool, kParameters>;
+
+Fixed FixedBy(PbrModel model, bool coat) {
+  Fixed fixed{};
+  fixed[kSpecularAt] = model == PbrModel::kSchlick;
+  fixed[kCoatAt] = fixed[kCoatAt + 1] = !coat;
+  return fixed;
+}
+
+void HoldParameters(const Theta& theta, const Fixed& fixed, Normal* a, Theta* g) {
+  static const Bounds b = ParameterBounds();
+  for (int i = 0; i < kParameters; ++i) {
     // The step is -a^-1 g: a positive gradient moves the parameter down.
-    const bool held = (theta(i) <= lo(i) && (*g)(i) > 0) || (theta(i) >= hi(i) && (*g)(i) < 0);
+    const bool held = fixed[std::size_t(i)] || (theta(i) <= b.lo(i) && (*g)(i) > 0) ||
+                      (theta(i) >= b.hi(i) && (*g)(i) < 0);
     if (!held) continue;
     a->row(i).setZero();
     a->col(i).setZero();
@@ -189,30 +229,67 @@ void HoldActiveBounds(const Theta& theta, Eigen::Matrix<double, 7, 7>* a, Theta*
   }
 }
 
+// A lobe over the used bins and its derivative in ln roughness.
+struct LobeAndSlope {
+  Eigen::ArrayXd value, slope;
+};
+
+LobeAndSlope LobeWithSlope(const FitData& d, double ln_roughness) {
+  // alpha^2 = roughness^4, so d/d(ln roughness) = 4 alpha^2 d/d(alpha^2); the lobe's logarithmic
+  // derivative is the sum of D's and the two G1's.
+  const double a2 = std::exp(4 * ln_roughness);
+  const Eigen::ArrayXd c2 = d.cos_h.square();
+  const Eigen::ArrayXd t = c2 * (a2 - 1) + 1;
+  const Eigen::ArrayXd dlog_d = 1 / a2 - 2 * c2 / t;
+  auto g1 = [a2](const Eigen::ArrayXd& c, Eigen::ArrayXd* dlog) -> Eigen::ArrayXd {
+    const Eigen::ArrayXd root = (a2 + (1 - a2) * c.square()).sqrt();
+    *dlog = -(1 - c.square()) / (2 * root * (c + root));
+    return 2 * c / (c + root);
+  };
+  Eigen::ArrayXd dlog_in, dlog_out;
+  const Eigen::ArrayXd g = g1(d.cos_in, &dlog_in) * g1(d.cos_out, &dlog_out);
+  LobeAndSlope l;
+  l.value = a2 / (kPi * t.square()) * g / (4 * d.cos_in * d.cos_out);
+  l.slope = l.value * (4 * a2) * (dlog_d + dlog_in + dlog_out);
+  return l;
+}
+
 // The log-space cost and the Gauss-Newton system J^T J, J^T r. Each residual depends on its
-// channel's diffuse and F0 and on the roughness only: three Jacobian columns a channel.
-double Cost(const FitData& d, const Theta& theta, Eigen::Matrix<double, 7, 7>* jtj, Theta* jtr) {
-  const double roughness = std::exp(theta(6)), alpha = roughness * roughness;
-  constexpr double kStep = 1e-4;  // in ln roughness, for the lobe's derivative
-  const Eigen::ArrayXd lobe = LobeOver(d, alpha);
-  const Eigen::ArrayXd dlobe =
-      (LobeOver(d, alpha * std::exp(2 * kStep)) - LobeOver(d, alpha * std::exp(-2 * kStep))) /
-      (2 * kStep);
+// channel's diffuse and F0, the roughness, the specular weight and the coat's two: six Jacobian
+// columns a channel.
+double Cost(const FitData& d, const Theta& theta, bool coat, Normal* jtj, Theta* jtr) {
+  const LobeAndSlope base = LobeWithSlope(d, theta(6));
+  const LobeAndSlope top = coat ? LobeWithSlope(d, theta(kCoatAt + 1)) : LobeAndSlope{};
+  const double specular = theta(kSpecularAt), w = coat ? theta(kCoatAt) : 0.0;
+  const Eigen::ArrayXd coat_fresnel = kPbrCoatF0 + (1 - kPbrCoatF0) * d.schlick;
+  const Eigen::ArrayXd under = 1 - w * coat_fresnel;  // what the coat lets through
   jtj->setZero();
   jtr->setZero();
   double cost = 0;
   for (int c = 0; c < 3; ++c) {
     const Eigen::ArrayXd fresnel = theta(3 + c) * (1 - d.schlick) + d.schlick;
-    const Eigen::ArrayXd mapped = (theta(c) / kPi + lobe * fresnel) * d.cos_weight + kLogMappingEps;
+    const Eigen::ArrayXd uncoated = theta(c) / kPi + specular * base.value * fresnel;
+    Eigen::ArrayXd f = under * uncoated;
+    if (coat) f += w * coat_fresnel * top.value;
+    const Eigen::ArrayXd mapped = f * d.cos_weight + kLogMappingEps;
     const Eigen::ArrayXd res = mapped.log() - d.lt[c];
     cost += res.square().sum();
-    const Eigen::ArrayXd g = d.cos_weight / mapped;
-    const std::array<Eigen::ArrayXd, 3> j = {g / kPi, g * lobe * (1 - d.schlick),
-                                             g * fresnel * dlobe};
-    const int at[3] = {c, 3 + c, 6};
-    for (int a = 0; a < 3; ++a) {
+    const Eigen::ArrayXd g = d.cos_weight / mapped, gu = g * under;
+    std::array<Eigen::ArrayXd, 6> j = {gu / kPi,
+                                       gu * specular * base.value * (1 - d.schlick),
+                                       gu * specular * fresnel * base.slope,
+                                       gu * base.value * fresnel,
+                                       Eigen::ArrayXd(),
+                                       Eigen::ArrayXd()};
+    const int columns = coat ? 6 : 4;
+    if (coat) {
+      j[4] = g * coat_fresnel * (top.value - uncoated);
+      j[5] = g * w * coat_fresnel * top.slope;
+    }
+    const int at[6] = {c, 3 + c, 6, kSpecularAt, kCoatAt, kCoatAt + 1};
+    for (int a = 0; a < columns; ++a) {
       (*jtr)(at[a]) += (j[a] * res).sum();
-      for (int b = a; b < 3; ++b) {
+      for (int b = a; b < columns; ++b) {
         const double v = (j[a] * j[b]).sum();
         (*jtj)(at[a], at[b]) += v;
         if (b != a) (*jtj)(at[b], at[a]) += v;
@@ -220,6 +297,75 @@ double Cost(const FitData& d, const Theta& theta, Eigen::Matrix<double, 7, 7>* j
     }
   }
   return cost;
+}
+
+struct Refined {
+  Theta theta;
+  double cost = INFINITY;
+  bool converged = false;
+  int iterations = 0;
+};
+
+// Levenberg-Marquardt with Marquardt's diagonal scaling, each step projected onto the bounds.
+// Converged: an accepted step that lowers the cost by less than a part in 1e4 (the RMS by 5e-5
+// of itself), or a point no step can improve (the damping grows past any useful size: a
+// minimum, possibly on a bound).
+Refined Refine(const FitData& data, Theta theta, const Fixed& fixed, int max_iterations) {
+  const bool coat = !fixed[kCoatAt];
+  Normal jtj, next_jtj;
+  Theta jtr, next_jtr;
+  Refined r;
+  double cost = Cost(data, theta, coat, &jtj, &jtr);
+  double lambda = 1e-3;
+  for (r.iterations = 1; r.iterations <= max_iterations; ++r.iterations) {
+    Normal a = jtj;
+    a.diagonal() += lambda * (jtj.diagonal().array() + 1e-12).matrix();
+    Theta g = jtr;
+    HoldParameters(theta, fixed, &a, &g);
+    Theta next = theta - a.ldlt().solve(g);
+    Project(&next);
+    const double next_cost = Cost(data, next, coat, &next_jtj, &next_jtr);
+    if (std::isfinite(next_cost) && next_cost < cost) {
+      const bool small = cost - next_cost < 1e-4 * cost;
+      theta = next;
+      cost = next_cost;
+      jtj = next_jtj;
+      jtr = next_jtr;
+      lambda = std::max(lambda / 3, 1e-9);
+      if (small) {
+        r.converged = true;
+        break;
+      }
+    } else {
+      lambda *= 4;
+      if (lambda > 1e8) {
+        r.converged = true;
+        break;
+      }
+    }
+  }
+  r.iterations = std::min(r.iterations, max_iterations);
+  r.theta = theta;
+  r.cost = cost;
+  return r;
+}
+
+// The coat's starting points from the uncoated fit, at half weight: the coat sharper than the
+// lobe by 2x in roughness and the lobe broader by 1.5x, the coat 4x sharper, and the coat 2x
+// broader (white paint's optimum: a sharp lobe and a dim broad coat). One start missed white
+// paint's; these three find each optimum that a search from 15 starts found (docs/export.md).
+std::vector<Theta> CoatStarts(const Theta& uncoated) {
+  std::vector<Theta> starts;
+  for (const auto& [sharper, broader] :
+       {std::pair{2.0, 1.5}, std::pair{4.0, 1.0}, std::pair{0.5, 1.0}}) {
+    Theta t = uncoated;
+    t(6) += std::log(broader);
+    t(kCoatAt) = 0.5;
+    t(kCoatAt + 1) = uncoated(6) - std::log(sharper);
+    Project(&t);
+    starts.push_back(t);
+  }
+  return starts;
 }
 
 }  // namespace
@@ -230,8 +376,14 @@ std::array<double, 3> EvaluatePbr(const PbrParameters& p, const Eigen::Vector3d&
   const Eigen::Vector3d h = (in + out).normalized();
   const double lobe = Lobe(p.roughness * p.roughness, in.z(), out.z(), h.z());
   const double s = SchlickWeight(in.dot(h));
+  const double coat_fresnel = p.coat * (kPbrCoatF0 + (1 - kPbrCoatF0) * s);
+  const double coat =
+      p.coat > 0 ? coat_fresnel * Lobe(p.coat_roughness * p.coat_roughness, in.z(), out.z(), h.z())
+                 : 0.0;
   std::array<double, 3> f;
-  for (int c = 0; c < 3; ++c) f[c] = p.diffuse[c] / kPi + lobe * (p.f0[c] * (1 - s) + s);
+  for (int c = 0; c < 3; ++c)
+    f[c] = (1 - coat_fresnel) * (p.diffuse[c] / kPi + p.specular * lobe * (p.f0[c] * (1 - s) + s)) +
+           coat;
   return f;
 }
 
@@ -257,6 +409,26 @@ PbrFitGrid PbrFitGrid::Default(const std::uint8_t* valid, double max_zenith) {
   return g;  // ascending: theta_h, then theta_d, then phi_d is the flat index's order
 }
 
+namespace {
+constexpr std::pair<PbrModel, const char*> kPbrModelNames[] = {{PbrModel::kSchlick, "schlick"},
+                                                               {PbrModel::kWeighted, "weighted"},
+                                                               {PbrModel::kCoated, "coated"}};
+}  // namespace
+
+const char* PbrModelName(PbrModel model) {
+  for (const auto& [m, name] : kPbrModelNames)
+    if (m == model) return name;
+  throw std::logic_error("PbrModel missing from kPbrModelNames");
+}
+
+PbrModel ParsePbrModel(const std::string& name, const std::string& where) {
+  for (const auto& [m, n] : kPbrModelNames)
+    if (name == n) return m;
+  throw UserError(where, "unknown model '" + name + "'",
+                  "use schlick (Lambert + GGX), weighted (+ the lobe's weight, F90) or coated "
+                  "(+ a coat where a pixel needs one; the default)");
+}
+
 void PbrFitOptions::Check() const {
   if (!(max_zenith_deg >= 30 && max_zenith_deg <= 90))
     throw UserError("--max-zenith-deg",
@@ -269,53 +441,31 @@ void PbrFitOptions::Check() const {
   if (max_iterations < 1 || max_iterations > 1000)
     throw UserError("--max-iterations",
                     "must be between 1 and 1000, got " + std::to_string(max_iterations),
-                    "the default is 30");
+                    "the default is 100");
 }
 
 PbrFit FitPbr(const PbrFitGrid& grid, const float* target, const PbrFitOptions& options) {
   PbrFit fit;
   const FitData data = Prepare(grid, target);
   if (data.Size() == 0) return fit;
-  Theta theta = Pack(CoarseSearch(data, options.roughness_steps));
-  Eigen::Matrix<double, 7, 7> jtj, next_jtj;
-  Theta jtr, next_jtr;
-  double cost = Cost(data, theta, &jtj, &jtr);
-  double lambda = 1e-3;
-  // Levenberg-Marquardt with Marquardt's diagonal scaling, each step projected onto the
-  // bounds. Converged: an accepted step that lowers the cost by less than a part in 1e4 (the RMS by
-  // 5e-5 of itself), or a point no step can improve (the damping grows past any useful size: a
-  // minimum, possibly on a bound).
-  for (fit.iterations = 1; fit.iterations <= options.max_iterations; ++fit.iterations) {
-    Eigen::Matrix<double, 7, 7> a = jtj;
-    a.diagonal() += lambda * (jtj.diagonal().array() + 1e-12).matrix();
-    Theta g = jtr;
-    HoldActiveBounds(theta, &a, &g);
-    Theta next = theta - a.ldlt().solve(g);
-    Project(&next);
-    const double next_cost = Cost(data, next, &next_jtj, &next_jtr);
-    if (std::isfinite(next_cost) && next_cost < cost) {
-      const bool small = cost - next_cost < 1e-4 * cost;
-      theta = next;
-      cost = next_cost;
-      jtj = next_jtj;
-      jtr = next_jtr;
-      lambda = std::max(lambda / 3, 1e-9);
-      if (small) {
-        fit.converged = true;
-        break;
-      }
-    } else {
-      lambda *= 4;
-      if (lambda > 1e8) {
-        fit.converged = true;
-        break;
-      }
+  const double count = 3.0 * double(data.Size());
+  Refined best = Refine(data, Pack(CoarseSearch(data, options.roughness_steps, options.model)),
+                        FixedBy(options.model, false), options.max_iterations);
+  fit.uncoated_log_rmse = std::sqrt(best.cost / count);
+  if (options.model == PbrModel::kCoated) {
+    const double needed = best.cost * (1 - kPbrCoatMinGain) * (1 - kPbrCoatMinGain);
+    for (const Theta& start : CoatStarts(best.theta)) {
+      const Refined coated =
+          Refine(data, start, FixedBy(options.model, true), options.max_iterations);
+      if (coated.cost < needed && coated.cost < best.cost) best = coated;
     }
   }
-  fit.iterations = std::min(fit.iterations, options.max_iterations);
-  fit.parameters = Unpack(theta);
-  fit.log_rmse = std::sqrt(cost / (3.0 * double(data.Size())));
-  if (!std::isfinite(fit.log_rmse)) fit.log_rmse = 0, fit.converged = false;
+  fit.parameters = Unpack(best.theta);
+  if (fit.parameters.coat == 0) fit.parameters.coat_roughness = PbrParameters{}.coat_roughness;
+  fit.iterations = best.iterations;
+  fit.converged = best.converged;
+  fit.log_rmse = std::sqrt(best.cost / count);
+  if (!std::isfinite(fit.log_rmse)) fit.log_rmse = fit.uncoated_log_rmse = 0, fit.converged = false;
   return fit;
 }
 

@@ -101,8 +101,10 @@ const std::map<std::string, Command>& Commands() {
       {"export pbr",
        {ExportPbr,
         "acq export pbr --map MAP.exr -o DIR [--basis BASIS] [--session SESSION] [--name NAME]\n"
-        "    [--max-zenith-deg 80] [--roughness-steps 16] [--max-iterations 30] [--quiet]\n"
-        "  Fits Lambert + GGX (Schlick F0 colour) to every pixel's BRDF in the method's log\n"
+        "    [--model schlick|weighted|coated] [--max-zenith-deg 80] [--roughness-steps 16]\n"
+        "    [--max-iterations 100] [--quiet]\n"
+        "  Fits Lambert + GGX (Schlick F0 colour; weighted: and F90; coated, the default: and a\n"
+        "  clearcoat lobe where a pixel needs one) to every pixel's BRDF in the method's log\n"
         "  space; writes glTF 2.0 (material.gltf), MaterialX (material.mtlx), their textures, the\n"
         "  fit's error map and fit.json. --session: the fitted and the measured map against the\n"
         "  session's validation views, and the fit's error per true material in simulation."}},

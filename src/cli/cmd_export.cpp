@@ -136,9 +136,10 @@ std::string MaterialName(const std::string& map_path) {
 int ExportPbr(const Argv& argv) {
   const Args args("acq export pbr", argv,
                   {"map", "basis", "o", "session", "name", "roughness-steps", "max-iterations",
-                   "max-zenith-deg"},
+                   "max-zenith-deg", "model"},
                   {"quiet"});
   PbrFitOptions options;
+  if (args.Has("model")) options.model = ParsePbrModel(args.Get("model"), "--model");
   options.roughness_steps = args.GetInt("roughness-steps", options.roughness_steps);
   options.max_iterations = args.GetInt("max-iterations", options.max_iterations);
   options.max_zenith_deg = args.GetDouble("max-zenith-deg", options.max_zenith_deg);
@@ -152,33 +153,39 @@ int ExportPbr(const Argv& argv) {
   const MapAndBasis m = OpenMapAndBasis(args);
   PrepareOutput(dir);
   const PbrMaps maps = FitPbrMaps(m.map, m.basis.View(), options, !args.Has("quiet"));
-  WritePbrTextures(maps, dir);
+  PbrTextureSet textures = WritePbrTextures(maps, dir);
   const std::string name = args.Get("name", MaterialName(args.Get("map")));
   const double width_mm = m.map.info.width * m.map.info.pixel_size_mm;
   const double height_mm = m.map.info.height * m.map.info.pixel_size_mm;
   // The normals the reconstruction estimated (issue 19), as the renderers' normal maps.
-  const bool normal_map = HasEstimatedNormals(m.map);
-  if (normal_map) WriteNormalPng(m.map, dir + "/" + PbrTextureNames::kNormal);
-  WriteGltf(dir, width_mm, height_mm, name, normal_map);
-  WriteMaterialX(dir, name, normal_map);
+  textures.normal_map = HasEstimatedNormals(m.map);
+  if (textures.normal_map) WriteNormalPng(m.map, dir + "/" + PbrTextureNames::kNormal);
+  WriteGltf(dir, width_mm, height_mm, name, textures);
+  WriteMaterialX(dir, name, textures);
 
-  std::vector<double> valid_errors, f0;
-  long converged = 0;
+  std::vector<double> valid_errors, f0, specular;
+  long converged = 0, coated = 0;
   for (std::size_t p = 0; p < maps.Pixels(); ++p) {
     if (maps.valid[p]) {
+      const PbrParameters& q = maps.parameters[p];
       valid_errors.push_back(maps.log_rmse[p]);
-      const auto& c = maps.parameters[p].f0;
-      f0.push_back(*std::max_element(c.begin(), c.end()));
+      f0.push_back(q.specular * *std::max_element(q.f0.begin(), q.f0.end()));
+      specular.push_back(q.specular);
+      coated += q.coat > 0;
     }
     converged += maps.converged[p];
   }
   nlohmann::json report = {{"map", args.Get("map")},
+                           {"model", PbrModelName(options.model)},
                            {"pixels", maps.Pixels()},
                            {"valid_pixels", valid_errors.size()},
                            {"not_converged", long(maps.Pixels()) - converged},
                            {"median_log_rmse", MedianOf(valid_errors)},
-                           // For renderers with one F0 for a material (Mitsuba's principled).
+                           // For renderers with one F0 for a material (Mitsuba's principled):
+                           // the reflectance at normal incidence, F90 (specular) x F0 / F90.
                            {"median_f0", MedianOf(f0)},
+                           {"median_specular_weight", MedianOf(specular)},
+                           {"coated_pixels", coated},
                            {"fit_seconds", maps.seconds}};
   std::vector<int> group;
   for (int y = 0; y < m.map.info.height; ++y)
@@ -196,10 +203,10 @@ int ExportPbr(const Argv& argv) {
   std::ofstream(dir + "/fit.json") << report.dump(2) << "\n";
 
   std::printf(
-      "fitted %zu pixels in %.1f s: median log-space error %.4f over %zu valid pixels, "
-      "%ld not converged\n",
-      maps.Pixels(), maps.seconds, MedianOf(valid_errors), valid_errors.size(),
-      long(maps.Pixels()) - converged);
+      "fitted %zu pixels in %.1f s (model %s): median log-space error %.4f over %zu valid "
+      "pixels, %ld with a coat, %ld not converged\n",
+      maps.Pixels(), maps.seconds, PbrModelName(options.model), MedianOf(valid_errors),
+      valid_errors.size(), coated, long(maps.Pixels()) - converged);
   for (const char* key : {"by_material", "by_group"})
     if (report.contains(key))
       for (const auto& c : report[key])
@@ -216,12 +223,14 @@ int ExportPbr(const Argv& argv) {
           std::printf("    %-26s map %.4f, fitted %.4f\n", c["name"].get<std::string>().c_str(),
                       c["map_relative_rms"].get<double>(), c["fitted_relative_rms"].get<double>());
     }
-  std::printf("wrote %s/{%s,%s,%s,%s,%s,%s,%s,%s,%s,%sfit.json}\n", dir.c_str(), kGltfFile,
-              kGltfBuffer, kMaterialXFile, PbrTextureNames::kBaseColor,
-              PbrTextureNames::kMetallicRoughness, PbrTextureNames::kSpecular,
-              PbrTextureNames::kRoughness, PbrTextureNames::kFitError,
-              PbrTextureNames::kFitErrorPng,
-              normal_map ? (std::string(PbrTextureNames::kNormal) + ",").c_str() : "");
+  using N = PbrTextureNames;
+  std::string written = std::string(kGltfFile) + "," + kGltfBuffer + "," + kMaterialXFile;
+  for (const char* f : {N::kBaseColor, N::kMetallicRoughness, N::kSpecular, N::kSpecularWeight,
+                        N::kRoughness, N::kFitError, N::kFitErrorPng})
+    written += std::string(",") + f;
+  if (textures.coat) written += std::string(",") + N::kCoat;
+  if (textures.normal_map) written += std::string(",") + N::kNormal;
+  std::printf("wrote %s/{%s,fit.json}\n", dir.c_str(), written.c_str());
   return 0;
 }
 

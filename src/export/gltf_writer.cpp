@@ -50,7 +50,7 @@ Quad MakeQuad(double width_m, double height_m) {
 }  // namespace
 
 void WriteGltf(const std::string& dir, double width_mm, double height_mm, const std::string& name,
-               bool normal_map) {
+               const PbrTextureSet& textures) {
   using nlohmann::json;
   const Quad q = MakeQuad(width_mm / 1000, height_mm / 1000);
   const std::size_t pos = 0, nrm = sizeof(q.positions), uv = nrm + sizeof(q.normals);
@@ -69,6 +69,7 @@ void WriteGltf(const std::string& dir, double width_mm, double height_mm, const 
   json gltf;
   gltf["asset"] = {{"version", "2.0"}, {"generator", "acq export pbr"}};
   gltf["extensionsUsed"] = json::array({"KHR_materials_specular"});
+  if (textures.coat) gltf["extensionsUsed"].push_back("KHR_materials_clearcoat");
   gltf["scene"] = 0;
   gltf["scenes"] = json::array({{{"name", name}, {"nodes", json::array({0})}}});
   gltf["nodes"] = json::array({{{"name", name}, {"mesh", 0}}});
@@ -96,33 +97,45 @@ void WriteGltf(const std::string& dir, double width_mm, double height_mm, const 
   gltf["accessors"] =
       json::array({position, accessor(1, kFloat, 4, "VEC3"), accessor(2, kFloat, 4, "VEC2"),
                    accessor(3, kUnsignedShort, 6, "SCALAR"), accessor(4, kFloat, 4, "VEC4")});
-  gltf["images"] = json::array({{{"uri", PbrTextureNames::kBaseColor}},
-                                {{"uri", PbrTextureNames::kMetallicRoughness}},
-                                {{"uri", PbrTextureNames::kSpecular}}});
+  // One image and one texture per file, each texture's index its image's.
+  gltf["images"] = json::array();
+  gltf["textures"] = json::array();
+  auto texture = [&gltf](const char* file) {
+    const int index = int(gltf["images"].size());
+    gltf["images"].push_back({{"uri", file}});
+    gltf["textures"].push_back({{"sampler", 0}, {"source", index}});
+    return json{{"index", index}};
+  };
   // Nearest: one texel is one measured pixel, not to be blurred into its neighbours.
   constexpr int kNearest = 9728, kClampToEdge = 33071;
   gltf["samplers"] = json::array({{{"magFilter", kNearest},
                                    {"minFilter", kNearest},
                                    {"wrapS", kClampToEdge},
                                    {"wrapT", kClampToEdge}}});
-  if (normal_map) gltf["images"].push_back({{"uri", PbrTextureNames::kNormal}});
-  gltf["textures"] = json::array();
-  for (std::size_t i = 0; i < gltf["images"].size(); ++i)
-    gltf["textures"].push_back({{"sampler", 0}, {"source", i}});
+  using N = PbrTextureNames;
   const double f = 1 / kGltfDielectricF0;
   json material = {{"name", name},
                    {"pbrMetallicRoughness",
-                    {{"baseColorTexture", {{"index", 0}}},
-                     {"metallicRoughnessTexture", {{"index", 1}}},
+                    {{"baseColorTexture", texture(N::kBaseColor)},
+                     {"metallicRoughnessTexture", texture(N::kMetallicRoughness)},
                      {"metallicFactor", 0.0},
                      {"roughnessFactor", 1.0}}}};
+  // F0 = specular * min(0.04 * specularColor, 1) and F90 = specular (the spec's dielectric).
   material["extensions"]["KHR_materials_specular"] = {
       {"specularFactor", 1.0},
+      {"specularTexture", texture(N::kSpecularWeight)},
       {"specularColorFactor", json::array({f, f, f})},
-      {"specularColorTexture", {{"index", 2}}}};
+      {"specularColorTexture", texture(N::kSpecular)}};
+  if (textures.coat) {
+    const json coat = texture(N::kCoat);
+    material["extensions"]["KHR_materials_clearcoat"] = {{"clearcoatFactor", 1.0},
+                                                         {"clearcoatTexture", coat},
+                                                         {"clearcoatRoughnessFactor", 1.0},
+                                                         {"clearcoatRoughnessTexture", coat}};
+  }
   // The map's rows run to +Z and its texture's up is the sample's +y, which the quad's
   // tangent frame (tangent +X, bitangent normal x tangent = -Z) makes the normal map's +Y.
-  if (normal_map) material["normalTexture"] = {{"index", 3}};
+  if (textures.normal_map) material["normalTexture"] = texture(N::kNormal);
   gltf["materials"] = json::array({material});
   const std::string path = dir + "/" + kGltfFile;
   std::ofstream out(path);

@@ -19,7 +19,8 @@ std::string Identifier(const std::string& name) {
 
 }  // namespace
 
-void WriteMaterialX(const std::string& dir, const std::string& name, bool normal_map) {
+void WriteMaterialX(const std::string& dir, const std::string& name,
+                    const PbrTextureSet& textures) {
   using N = PbrTextureNames;
   const std::string id = Identifier(name);
   const std::string path = dir + "/" + kMaterialXFile;
@@ -52,7 +53,17 @@ void WriteMaterialX(const std::string& dir, const std::string& name, bool normal
       << "    <image name=\"specular\" type=\"color3\">\n"
       << "      <input name=\"file\" type=\"filename\" value=\"" << N::kSpecular
       << "\" colorspace=\"srgb_texture\" />\n"
+      << "    </image>\n"
+      << "    <image name=\"specular_weight\" type=\"float\">\n"
+      << "      <input name=\"file\" type=\"filename\" value=\"" << N::kSpecularWeight << "\" />\n"
       << "    </image>\n";
+  if (textures.coat) {
+    out << "    <image name=\"coat_texture\" type=\"vector3\">\n"
+        << "      <input name=\"file\" type=\"filename\" value=\"" << N::kCoat << "\" />\n"
+        << "    </image>\n";
+    extract("coat", "coat_texture", "vector3", 0);
+    extract("coat_roughness", "coat_texture", "vector3", 1);
+  }
   extract("roughness", "metallic_roughness", "vector3", 1);
   extract("f0_r", "specular", "color3", 0);
   extract("f0_g", "specular", "color3", 1);
@@ -72,7 +83,7 @@ void WriteMaterialX(const std::string& dir, const std::string& name, bool normal
   binary("add", "ior_above", "float", "value=\"1.0\"", "nodename=\"sqrt_f0\"");
   binary("subtract", "ior_below", "float", "value=\"1.0\"", "nodename=\"sqrt_f0\"");
   binary("divide", "ior", "float", "nodename=\"ior_above\"", "nodename=\"ior_below\"");
-  if (normal_map)
+  if (textures.normal_map)
     out << "    <image name=\"normal_texture\" type=\"vector3\">\n"
         << "      <input name=\"file\" type=\"filename\" value=\"" << N::kNormal << "\" />\n"
         << "    </image>\n"
@@ -80,7 +91,9 @@ void WriteMaterialX(const std::string& dir, const std::string& name, bool normal
         << "      <input name=\"in\" type=\"vector3\" nodename=\"normal_texture\" />\n"
         << "    </normalmap>\n"
         << "    <output name=\"normal_out\" type=\"vector3\" nodename=\"normal\" />\n";
-  for (const char* o : {"basecolor", "roughness", "tint", "ior"}) {
+  std::vector<const char*> outputs = {"basecolor", "roughness", "tint", "ior", "specular_weight"};
+  if (textures.coat) outputs.insert(outputs.end(), {"coat", "coat_roughness"});
+  for (const char* o : outputs) {
     const bool colour = std::string(o) == "basecolor" || std::string(o) == "tint";
     out << "    <output name=\"" << o << "_out\" type=\"" << (colour ? "color3" : "float")
         << "\" nodename=\"" << o << "\" />\n";
@@ -92,14 +105,19 @@ void WriteMaterialX(const std::string& dir, const std::string& name, bool normal
       << "    <input name=\"base_color\" type=\"color3\" nodegraph=\"" << graph
       << "\" output=\"basecolor_out\" />\n"
       << "    <input name=\"metalness\" type=\"float\" value=\"0.0\" />\n"
-      << "    <input name=\"specular\" type=\"float\" value=\"1.0\" />\n"
+      << "    <input name=\"specular\" type=\"float\" nodegraph=\"" << graph
+      << "\" output=\"specular_weight_out\" />\n"
       << "    <input name=\"specular_color\" type=\"color3\" nodegraph=\"" << graph
       << "\" output=\"tint_out\" />\n"
       << "    <input name=\"specular_roughness\" type=\"float\" nodegraph=\"" << graph
       << "\" output=\"roughness_out\" />\n"
       << "    <input name=\"specular_IOR\" type=\"float\" nodegraph=\"" << graph
       << "\" output=\"ior_out\" />\n";
-  if (normal_map)
+  if (textures.coat)
+    for (const char* input : {"coat", "coat_roughness"})
+      out << "    <input name=\"" << input << "\" type=\"float\" nodegraph=\"" << graph
+          << "\" output=\"" << input << "_out\" />\n";
+  if (textures.normal_map)
     out << "    <input name=\"normal\" type=\"vector3\" nodegraph=\"" << graph
         << "\" output=\"normal_out\" />\n";
   out << "  </standard_surface>\n"

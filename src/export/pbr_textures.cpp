@@ -37,14 +37,27 @@ cv::Mat Image(const PbrMaps& maps, F rgb) {
   return out;
 }
 
+// An 8-bit grey image with alpha, every channel the pixel's value in [0, 1].
+template <typename F>
+cv::Mat GreyWithAlpha(const PbrMaps& maps, F value) {
+  cv::Mat out(maps.height, maps.width, CV_8UC4);
+  for (int y = 0; y < maps.height; ++y)
+    for (int x = 0; x < maps.width; ++x) {
+      const std::uint8_t v = Byte(value(std::size_t(y) * maps.width + x));
+      out.at<cv::Vec4b>(y, x) = cv::Vec4b(v, v, v, v);
+    }
+  return out;
+}
+
 std::array<double, 3> Srgb(const std::array<double, 3>& linear) {
   return {SrgbEncode(linear[0]), SrgbEncode(linear[1]), SrgbEncode(linear[2])};
 }
 
 }  // namespace
 
-void WritePbrTextures(const PbrMaps& maps, const std::string& dir) {
+PbrTextureSet WritePbrTextures(const PbrMaps& maps, const std::string& dir) {
   using N = PbrTextureNames;
+  PbrTextureSet set;
   Write(Image(maps, [&](std::size_t p) { return Srgb(maps.parameters[p].diffuse); }),
         dir + "/" + N::kBaseColor);
   Write(Image(maps,
@@ -54,6 +67,17 @@ void WritePbrTextures(const PbrMaps& maps, const std::string& dir) {
         dir + "/" + N::kMetallicRoughness);
   Write(Image(maps, [&](std::size_t p) { return Srgb(maps.parameters[p].f0); }),
         dir + "/" + N::kSpecular);
+  Write(GreyWithAlpha(maps, [&](std::size_t p) { return maps.parameters[p].specular; }),
+        dir + "/" + N::kSpecularWeight);
+  set.coat = std::any_of(maps.parameters.begin(), maps.parameters.end(),
+                         [](const PbrParameters& p) { return p.coat > 0; });
+  if (set.coat)
+    Write(Image(maps,
+                [&](std::size_t p) {
+                  const PbrParameters& q = maps.parameters[p];
+                  return std::array<double, 3>{q.coat, q.coat_roughness, 0.0};
+                }),
+          dir + "/" + N::kCoat);
   Write(Image(maps,
               [&](std::size_t p) {
                 const double r = maps.parameters[p].roughness;
@@ -86,6 +110,7 @@ void WritePbrTextures(const PbrMaps& maps, const std::string& dir) {
                 return std::array<double, 3>{v, v, v};
               }),
         dir + "/" + N::kFitErrorPng);
+  return set;
 }
 
 }  // namespace acq

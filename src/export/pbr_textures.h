@@ -1,7 +1,13 @@
 // The fitted analytic maps as the textures glTF and MaterialX reference (docs/export.md):
 //   basecolor.png           diffuse albedo, sRGB
 //   metallic_roughness.png  glTF's packing: G roughness, B metallic (0), R unused (255); linear
-//   specular.png            F0 colour, sRGB (glTF KHR_materials_specular's specularColorTexture)
+//   specular.png            F0 / F90 colour, sRGB (glTF KHR_materials_specular's
+//                           specularColorTexture)
+//   specular_weight.png     F90, the lobe's weight, linear grey in R G B and A (glTF
+//                           KHR_materials_specular's specularTexture reads A)
+//   coat.png                with a coat: R its weight, G its roughness, B 0; linear (glTF
+//                           KHR_materials_clearcoat's clearcoatTexture reads R, its
+//                           clearcoatRoughnessTexture G)
 //   roughness.png           roughness alone, linear grey (for renderers that take one channel:
 //                           Mitsuba's principled BSDF)
 //   fit_error.exr           planes log_rmse, converged, valid (float, one a pixel)
@@ -22,13 +28,22 @@ struct PbrTextureNames {
   static constexpr const char* kBaseColor = "basecolor.png";
   static constexpr const char* kMetallicRoughness = "metallic_roughness.png";
   static constexpr const char* kSpecular = "specular.png";
+  static constexpr const char* kSpecularWeight = "specular_weight.png";
+  static constexpr const char* kCoat = "coat.png";
   static constexpr const char* kRoughness = "roughness.png";
   static constexpr const char* kFitError = "fit_error.exr";
   static constexpr const char* kFitErrorPng = "fit_error.png";
   static constexpr const char* kNormal = "normal.png";
 };
 
+// The optional textures an export has, which the glTF and MaterialX documents reference.
+struct PbrTextureSet {
+  bool normal_map = false;  // normal.png
+  bool coat = false;        // coat.png: some pixel has a coat
+};
+
+// Writes every texture above but normal.png; returns which optional ones it wrote.
 // Throws UserError naming the file when one cannot be written.
-void WritePbrTextures(const PbrMaps& maps, const std::string& dir);
+PbrTextureSet WritePbrTextures(const PbrMaps& maps, const std::string& dir);
 
 }  // namespace acq
