@@ -433,7 +433,7 @@ void PbrFitOptions::Check() const {
   if (!(max_zenith_deg >= 30 && max_zenith_deg <= 90))
     throw UserError("--max-zenith-deg",
                     "must be between 30 and 90 degrees, got " + std::to_string(max_zenith_deg),
-                    "the default is 80");
+                    "the default is 70");
   if (roughness_steps < 2 || roughness_steps > 256)
     throw UserError("--roughness-steps",
                     "must be between 2 and 256, got " + std::to_string(roughness_steps),

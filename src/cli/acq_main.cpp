@@ -101,7 +101,7 @@ const std::map<std::string, Command>& Commands() {
       {"export pbr",
        {ExportPbr,
         "acq export pbr --map MAP.exr -o DIR [--basis BASIS] [--session SESSION] [--name NAME]\n"
-        "    [--model schlick|weighted|coated] [--max-zenith-deg 80] [--roughness-steps 16]\n"
+        "    [--model schlick|weighted|coated] [--max-zenith-deg 70] [--roughness-steps 16]\n"
         "    [--max-iterations 100] [--quiet]\n"
         "  Fits Lambert + GGX (Schlick F0 colour; weighted: and F90; coated, the default: and a\n"
         "  clearcoat lobe where a pixel needs one) to every pixel's BRDF in the method's log\n"

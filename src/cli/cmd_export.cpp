@@ -177,6 +177,7 @@ int ExportPbr(const Argv& argv) {
   }
   nlohmann::json report = {{"map", args.Get("map")},
                            {"model", PbrModelName(options.model)},
+                           {"max_zenith_deg", options.max_zenith_deg},
                            {"pixels", maps.Pixels()},
                            {"valid_pixels", valid_errors.size()},
                            {"not_converged", long(maps.Pixels()) - converged},
