@@ -110,6 +110,31 @@ TEST_CASE("pbr fit: noise alone never buys a coat", "[pbr]") {
   }
 }
 
+TEST_CASE("pbr fit: a lobe the fit leaves unused takes the other lobe's shape", "[pbr]") {
+  // A renderer that blends neighbouring texels must blend weights, not invent a lobe from an
+  // unused roughness: Lambert alone (no lobe to fit) and a lobe without a coat.
+  const PbrParameters lambert{{0.5, 0.4, 0.3}, {0, 0, 0}, 0.3, 0.0};
+  PbrParameters glossy{{0.3, 0.3, 0.3}, {0.04, 0.04, 0.04}, 0.2};
+  for (const PbrParameters& truth : {lambert, glossy}) {
+    const PbrFit fit = FitPbr(Grid(), TargetOf(Grid(), truth).data(), PbrFitOptions{});
+    const PbrParameters& p = fit.parameters;
+    INFO("specular " << p.specular << " coat " << p.coat << " roughness " << p.roughness);
+    CHECK(fit.log_rmse < 0.01);
+    if (p.coat == 0) CHECK(p.coat_roughness == p.roughness);
+    if (p.specular == 0) {
+      for (int c = 0; c < 3; ++c) CHECK(p.f0[c] == kPbrCoatF0);
+      if (p.coat > 0) CHECK(p.roughness == p.coat_roughness);
+    }
+    // Weights under half an 8-bit step are zero: the texture would say so anyway.
+    CHECK((p.specular == 0 || p.specular >= 0.5 / 255));
+    CHECK((p.coat == 0 || p.coat >= 0.5 / 255));
+  }
+  // Lambert's fit has no lobe worth a texture step.
+  const PbrFit none = FitPbr(Grid(), TargetOf(Grid(), lambert).data(), PbrFitOptions{});
+  CHECK(none.parameters.specular == 0);
+  CHECK(none.parameters.coat == 0);
+}
+
 TEST_CASE("pbr fit: the model's name is parsed, an unknown one refused", "[pbr]") {
   for (PbrModel m : {PbrModel::kSchlick, PbrModel::kWeighted, PbrModel::kCoated})
     CHECK(ParsePbrModel(PbrModelName(m), "--model") == m);

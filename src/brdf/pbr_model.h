@@ -1,7 +1,14 @@
 // The analytic model renderers read (issue 20; docs/export.md), fitted to a pixel's measured
 // BRDF so that glTF, MaterialX, Blender and game engines can use a capture:
 //
-//   f(w_i, w_o) = rho_d / pi + F(w_i . h) D(h) G(w_i, w_o) / (4 cos theta_i cos theta_o)
+//   f(w_i, w_o) = (1 - max F(w_i . h)) rho_d / pi + F(w_i . h) D(h) G(w_i, w_o) / (4 cos theta_i
+//                 cos theta_o)
+//
+// as glTF's dielectric (KHR_materials_specular's fresnel_mix) takes it: the diffuse is what the
+// specular reflection leaves, its share 1 - F at the channel of the largest F. Until 2026-12-03
+// the diffuse was added whole; the fitted maps of black fabric then traded a dark diffuse under a
+// coat against a brighter one under a strong lobe, pixel by pixel, alike in our model and 2x
+// apart in MaterialX's standard_surface (which layers as glTF does): speckle in its render.
 //
 // Lambert diffuse of albedo rho_d; a GGX (Trowbridge-Reitz) specular lobe with alpha =
 // roughness^2 (glTF's perceptual roughness), the separable Smith shadowing of GGX, and Schlick's
@@ -75,8 +82,10 @@ struct PbrFitOptions {
   // (Schlick's Fresnel towards 1 over 4 cos cos) and measured BRDFs part by orders of
   // magnitude, and with them in, the fit gives up the peak and the diffuse level a render shows.
   // 70 (80 until the coated model): the validation views within 1.5x of the measured map's on
-  // every session measured, where 80 missed the two nearest the highlight by 1.7-2.1x; the
-  // price, the fit's error between 70 and 80 degrees up by a third (docs/export.md).
+  // every simulated card measured (not on the marbled sample's view 6: 1.74x), where 80 missed
+  // the two nearest the highlight by 1.7-2.4x on all but the embossed cards; the
+  // price, the fit's error between 70 and 80 degrees up by 4-60% on three pixels scored there
+  // (docs/export.md, "The zenith limit").
   double max_zenith_deg = 70;
   int roughness_steps = 16;  // the coarse search over roughness before the joint refinement
   int max_iterations = 100;  // Levenberg-Marquardt, per start
