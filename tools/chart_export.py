@@ -70,12 +70,13 @@ def chart_fit(fit_jsons, out):
     ax.set_title("validation views never used to reconstruct")
     ax.legend(fontsize=8)
     ax = axes[2]
-    for fit in fits:
+    for i, fit in enumerate(fits):
         ratios = [v["ratio"] for v in fit.get("validation", [])]
-        ax.scatter(fit["fit_seconds"], max(ratios) if ratios else fit["median_log_rmse"], s=40)
-        ax.annotate(fit_label(fit), (fit["fit_seconds"],
-                    max(ratios) if ratios else fit["median_log_rmse"]),
-                    textcoords="offset points", xytext=(5, 5))
+        worst = max(ratios) if ratios else fit["median_log_rmse"]
+        ax.scatter(fit["fit_seconds"], worst, s=40)
+        # Alternately above and below: neighbouring models' labels would overlap.
+        ax.annotate(fit_label(fit), (fit["fit_seconds"], worst), textcoords="offset points",
+                    xytext=(5, 6 if i % 2 == 0 else -14))
     ax.axhline(1.5, color="#999999", linestyle="--", linewidth=1)
     ax.set_xlabel("time to fit the map (s, this machine)")
     ax.set_ylabel("worst validation view, fitted / measured")

@@ -5,14 +5,15 @@
 //                 cos theta_o)
 //
 // as glTF's dielectric (KHR_materials_specular's fresnel_mix) takes it: the diffuse is what the
-// specular reflection leaves, its share 1 - F at the channel of the largest F. Until 2026-12-03
-// the diffuse was added whole; the fitted maps of black fabric then traded a dark diffuse under a
-// coat against a brighter one under a strong lobe, pixel by pixel, alike in our model and 2x
-// apart in MaterialX's standard_surface (which layers as glTF does): speckle in its render.
+// specular reflection leaves, its share 1 - F at the channel of the largest F (standard_surface
+// layers alike). Until 2026-12-03 the diffuse was added whole; on the colour card the two fit
+// alike (validation views 1.03 / 1.38 / 1.12x before, 1.05 / 1.38 / 1.12x after), and the
+// renderers now take what was fitted.
 //
 // Lambert diffuse of albedo rho_d; a GGX (Trowbridge-Reitz) specular lobe with alpha =
 // roughness^2 (glTF's perceptual roughness), the separable Smith shadowing of GGX, and Schlick's
-// Fresnel F = F0 + (1 - F0)(1 - w_i . h)^5 with a colour F0. Isotropic, as the basis is.
+// Fresnel scaled by the lobe's weight F90, F = F90 (F0' + (1 - F0')(1 - w_i . h)^5), with a colour
+// F0' (PbrParameters::f0). Isotropic, as the basis is.
 //
 // Optionally a coat, as glTF's KHR_materials_clearcoat layers it: a second, white GGX lobe of
 // its own roughness with the Fresnel of IOR 1.5 (F0 = 0.04), weight c in [0, 1]:
@@ -20,7 +21,8 @@
 //   f_coated = (1 - c F_coat(w_i . h)) f + c F_coat(w_i . h) D_coat G_coat / (4 cos cos)
 //
 // Glossy paints and metals have a sharp peak over a broad shoulder, which one lobe cannot follow
-// (it fits one and misses the other); the coat takes the peak. The fit adds it only where it
+// (it fits one and misses the other); with a coat, one lobe takes each (white paint: a sharp
+// lobe under a dim, broad coat; docs/export.md). The fit adds it only where it
 // lowers the error by kPbrCoatMinGain (docs/export.md: a coat where a pixel needs one).
 //
 // The fit minimises what the reconstruction minimises: the RMS over the grid of the difference
