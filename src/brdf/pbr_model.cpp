@@ -160,6 +160,7 @@ PbrParameters CoarseSearch(const FitData& d, int steps, PbrModel model) {
 // The parameters as one vector: diffuse R G B, F0 R G B, ln roughness, specular weight, coat
 // weight, ln coat roughness. Without a coat the last two are held at 0 and ln 0.1.
 constexpr int kParameters = 10;
+constexpr int kRoughnessAt = 6;
 constexpr int kSpecularAt = 7;
 constexpr int kCoatAt = 8;  // the first of the coat's two
 using Theta = Eigen::Matrix<double, kParameters, 1>;
@@ -168,20 +169,20 @@ using Normal = Eigen::Matrix<double, kParameters, kParameters>;
 Theta Pack(const PbrParameters& p) {
   Theta t;
   for (int c = 0; c < 3; ++c) t(c) = p.diffuse[c], t(3 + c) = p.f0[c];
-  t(6) = std::log(p.roughness);
+  t(kRoughnessAt) = std::log(p.roughness);
   t(kSpecularAt) = p.specular;
-  t(8) = p.coat;
-  t(9) = std::log(p.coat_roughness);
+  t(kCoatAt) = p.coat;
+  t(kCoatAt + 1) = std::log(p.coat_roughness);
   return t;
 }
 
 PbrParameters Unpack(const Theta& t) {
   PbrParameters p;
   for (int c = 0; c < 3; ++c) p.diffuse[c] = t(c), p.f0[c] = t(3 + c);
-  p.roughness = std::exp(t(6));
+  p.roughness = std::exp(t(kRoughnessAt));
   p.specular = t(kSpecularAt);
-  p.coat = t(8);
-  p.coat_roughness = std::exp(t(9));
+  p.coat = t(kCoatAt);
+  p.coat_roughness = std::exp(t(kCoatAt + 1));
   return p;
 }
 
@@ -192,8 +193,8 @@ struct Bounds {
 Bounds ParameterBounds() {
   Bounds b;
   for (int c = 0; c < 3; ++c) b.lo(c) = 0, b.hi(c) = INFINITY, b.lo(3 + c) = 0, b.hi(3 + c) = 1;
-  b.lo(6) = b.lo(9) = std::log(kPbrMinRoughness);
-  b.hi(6) = b.hi(9) = std::log(kPbrMaxRoughness);
+  b.lo(kRoughnessAt) = b.lo(kCoatAt + 1) = std::log(kPbrMinRoughness);
+  b.hi(kRoughnessAt) = b.hi(kCoatAt + 1) = std::log(kPbrMaxRoughness);
   b.lo(kSpecularAt) = b.lo(kCoatAt) = 0, b.hi(kSpecularAt) = b.hi(kCoatAt) = 1;
   return b;
 }
@@ -259,7 +260,7 @@ LobeAndSlope LobeWithSlope(const FitData& d, double ln_roughness) {
 // channel's diffuse and F0, the roughness, the specular weight and the coat's two, and through
 // the diffuse's share (1 - F90 F at the largest F0) on the largest F0: up to seven columns.
 double Cost(const FitData& d, const Theta& theta, bool coat, Normal* jtj, Theta* jtr) {
-  const LobeAndSlope base = LobeWithSlope(d, theta(6));
+  const LobeAndSlope base = LobeWithSlope(d, theta(kRoughnessAt));
   const LobeAndSlope top = coat ? LobeWithSlope(d, theta(kCoatAt + 1)) : LobeAndSlope{};
   const double specular = theta(kSpecularAt), w = coat ? theta(kCoatAt) : 0.0;
   const Eigen::ArrayXd coat_fresnel = kPbrCoatF0 + (1 - kPbrCoatF0) * d.schlick;
@@ -287,7 +288,7 @@ double Cost(const FitData& d, const Theta& theta, bool coat, Normal* jtj, Theta*
     std::vector<std::pair<int, Eigen::ArrayXd>> j = {
         {c, gu * diffuse_share / kPi},
         {3 + c, gu * specular * base.value * (1 - d.schlick)},
-        {6, gu * specular * fresnel * base.slope},
+        {kRoughnessAt, gu * specular * fresnel * base.slope},
         {kSpecularAt, gu * (base.value * fresnel - theta(c) / kPi * top_fresnel)}};
     if (c == top_f0)
       j[1].second += through_top;
@@ -362,16 +363,17 @@ Refined Refine(const FitData& data, Theta theta, const Fixed& fixed, int max_ite
 
 // The coat's starting points from the uncoated fit, at half weight: the coat sharper than the
 // lobe by 2x in roughness and the lobe broader by 1.5x, the coat 4x sharper, and the coat 2x
-// broader (white paint's optimum: a sharp lobe and a dim broad coat). One start missed white
-// paint's; these three find each optimum that a search from 15 starts found (docs/export.md).
+// broader (white paint's optimum: a sharp lobe and a dim broad coat). The first alone missed
+// white paint's; on the three pixels checked against SciPy's least_squares from 15 starts, these
+// three found the same optimum (docs/export.md).
 std::vector<Theta> CoatStarts(const Theta& uncoated) {
   std::vector<Theta> starts;
   for (const auto& [sharper, broader] :
        {std::pair{2.0, 1.5}, std::pair{4.0, 1.0}, std::pair{0.5, 1.0}}) {
     Theta t = uncoated;
-    t(6) += std::log(broader);
+    t(kRoughnessAt) += std::log(broader);
     t(kCoatAt) = 0.5;
-    t(kCoatAt + 1) = uncoated(6) - std::log(sharper);
+    t(kCoatAt + 1) = uncoated(kRoughnessAt) - std::log(sharper);
     Project(&t);
     starts.push_back(t);
   }
