@@ -1,5 +1,5 @@
 // The analytic maps fitted to an SVBRDF map (issue 20; brdf/pbr_model.h): every pixel's
-// reconstructed BRDF tabulated at the fit grid's bins, then the Lambert + GGX model fitted to
+// reconstructed BRDF tabulated at the fit grid's bins, then the analytic model (PbrModel) fitted to
 // it, the fit's log-space error kept per pixel.
 #pragma once
 
