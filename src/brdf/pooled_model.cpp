@@ -574,21 +574,22 @@ PooledModel FitPooledModel(const BasisView& basis, const PixelObservations& samp
     for (int g : {1, 2, 3, 4, 6, 8, 12, 16, 24, 32, 48, 64, 96, 128, 192, 256})
       if (g <= options.max_groups && g * 8 <= int(pixels.size())) tried.push_back(g);
   }
-  Eigen::MatrixXd feature_matrix(pixels.size(), 3 * model.features);
-  Eigen::MatrixX2d field_matrix(pixels.size(), 2);
-  for (std::size_t i = 0; i < pixels.size(); ++i) {
-    feature_matrix.row(Eigen::Index(i)) =
-        Eigen::Map<const Eigen::RowVectorXd>(pixels[i].feature.data(), feature_matrix.cols());
-    field_matrix.row(Eigen::Index(i)) = pixels[i].field.transpose();
+  // The merge's inputs, only when it runs (a forced number of groups is kept as k-means cut it).
+  const bool merge = options.groups <= 0;
+  Eigen::MatrixXd feature_matrix(merge ? pixels.size() : 0, 3 * model.features);
+  Eigen::MatrixX2d field_matrix(feature_matrix.rows(), 2);
+  for (Eigen::Index i = 0; i < feature_matrix.rows(); ++i) {
+    feature_matrix.row(i) = Eigen::Map<const Eigen::RowVectorXd>(
+        pixels[std::size_t(i)].feature.data(), feature_matrix.cols());
+    field_matrix.row(i) = pixels[std::size_t(i)].field.transpose();
   }
   std::vector<int> label;  // the best labelling so far, of `groups` groups
   int groups = 0, previous = 0, worse_in_a_row = 0;
   double best = std::numeric_limits<double>::infinity();
   for (int seeded : tried) {
     std::vector<int> trial = KMeans(pixels, seeded, options.seed);
-    const int size = options.groups > 0
-                         ? seeded
-                         : MergeOverlapping(feature_matrix, field_matrix, seeded, &trial);
+    const int size =
+        merge ? MergeOverlapping(feature_matrix, field_matrix, seeded, &trial) : seeded;
     double squared = 0;
     for (const std::vector<int>& members : members_of(trial, size)) {
       if (members.empty()) continue;

@@ -38,10 +38,10 @@ void WriteMaterialX(const std::string& dir, const std::string& name,
         << "      <input name=\"in2\" type=\"" << (type2 ? type2 : type) << "\" " << in2 << " />\n"
         << "    </" << op << ">\n";
   };
-  // Closest texel, as the glTF's sampler: a texel is one pixel's fit, and neighbouring fits can
-  // lie in different optima (black fabric: a dark diffuse under a coat beside a brighter one
-  // under a rough lobe) that agree where measured but whose blend does not (MaterialX's default
-  // linear filter made its render speckle: 0.35 relative spread over the fabric, 0.03 measured).
+  // Closest texel, as the glTF's sampler asks: a texel is one pixel's fit. MaterialX's GLSL
+  // renderer blends neighbouring texels all the same (measured: a 1-texel checkerboard of two
+  // fits rendered 3x brighter than either), which is why the fit gives an unused lobe its
+  // counterpart's shape (pbr_model.cpp, GiveUnusedParametersTheirCounterparts).
   auto image = [&](const char* node, const char* type, const char* file, bool srgb) {
     out << "    <image name=\"" << node << "\" type=\"" << type << "\">\n"
         << "      <input name=\"file\" type=\"filename\" value=\"" << file << "\""
@@ -81,12 +81,13 @@ void WriteMaterialX(const std::string& dir, const std::string& name,
   binary("add", "ior_above", "float", "value=\"1.0\"", "nodename=\"sqrt_f0\"");
   binary("subtract", "ior_below", "float", "value=\"1.0\"", "nodename=\"sqrt_f0\"");
   binary("divide", "ior", "float", "nodename=\"ior_above\"", "nodename=\"ior_below\"");
-  if (textures.normal_map) image("normal_texture", "vector3", N::kNormal, false);
-  if (textures.normal_map)
+  if (textures.normal_map) {
+    image("normal_texture", "vector3", N::kNormal, false);
     out << "    <normalmap name=\"normal\" type=\"vector3\">\n"
         << "      <input name=\"in\" type=\"vector3\" nodename=\"normal_texture\" />\n"
         << "    </normalmap>\n"
         << "    <output name=\"normal_out\" type=\"vector3\" nodename=\"normal\" />\n";
+  }
   std::vector<const char*> outputs = {"basecolor", "roughness", "tint", "ior", "specular_weight"};
   if (textures.coat) outputs.insert(outputs.end(), {"coat", "coat_roughness"});
   for (const char* o : outputs) {
