@@ -9,7 +9,8 @@
 # client the CPU seconds it used (the browser's processes, or node's) are printed; and
 # `acqctl status`'s latency during the capture.
 # usage: tools/bench_live_view.sh [RUNS]   (default 2; prints a table; BENCH_LIVE_VIEW_WAYS="none
-# page" runs only those)
+# page" runs only those; BENCH_LIVE_VIEW_TIME_SCALE=1 runs the gantry's motion at its real speed
+# instead of the default 20 times faster, which makes the camera's simulation the bottleneck)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 runs=${1:-2}
@@ -20,7 +21,7 @@ $acq basis build data/nbrdf/merl/brass.h5 data/nbrdf/merl/white-paint.h5 \
   data/nbrdf/merl/black-fabric.h5 --components 3 -o "$tmp/basis.acqb" --quiet > /dev/null
 plan() {  # DIR: the plan, capture and processing (the processing is the same either way)
   mkdir -p "$1"
-  sed "s|BASIS|$tmp/basis.acqb|; s|DATA|$PWD/data|g" > "$1/plan.yaml" <<'PLAN'
+  sed "s|BASIS|$tmp/basis.acqb|; s|DATA|$PWD/data|g; s|TIME_SCALE|${BENCH_LIVE_VIEW_TIME_SCALE:-20}|" > "$1/plan.yaml" <<'PLAN'
 version: 1
 backend: sim
 output: session
@@ -35,7 +36,7 @@ spectralon: true
 reconstruction: {basis: BASIS, k: 3}
 sim:
   materials: [DATA/nbrdf/merl/white-paint.h5, DATA/nbrdf/merl/brass.h5]
-  time_scale: 20
+  time_scale: TIME_SCALE
 PLAN
 }
 capture_s() {  # LOG: the capture's wall time, from acqd's "processing" line
