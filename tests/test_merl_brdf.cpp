@@ -78,6 +78,43 @@ TEST_CASE("lookup follows MERL's reader: bin of the directions, channel scales",
   CHECK(b.Lookup(out, in)[0] == Approx(1.0));
 }
 
+TEST_CASE("the interpolated lookup runs between bin centres, skipping bins without data",
+          "[merl_io]") {
+  // Two neighbouring theta_d bins of one theta_h and phi_d hold 1 and 3 (raw 1500 and 4500);
+  // every other bin has no data (-1).
+  MerlBrdf b;
+  const merl::BinIndex low{51, 30, 90}, high{51, 31, 90};
+  for (int c = 0; c < 3; ++c) {
+    b.raw[c * merl::kBins + low.Flat()] = 1500.0;
+    b.raw[c * merl::kBins + high.Flat()] = 4500.0;
+  }
+  auto directions = [](double theta_h, double theta_d_deg, double phi_d_deg) {
+    RusinkiewiczAngles a;
+    a.theta_h = theta_h, a.theta_d = DegToRad(theta_d_deg), a.phi_d = DegToRad(phi_d_deg);
+    a.phi_h = 1.0;  // isotropic: any
+    return DirectionsFromRusinkiewicz(a);
+  };
+  const double theta_h = merl::BinCentre(low).theta_h;
+  auto at = [&](double theta_d_deg) {
+    const DirectionPair d = directions(theta_h, theta_d_deg, 90.5);
+    return b.LookupInterpolated(d.in, d.out);
+  };
+  // At a bin centre: that bin's value, as Lookup gives it (the neighbours without data, whose
+  // weights the centre's bin takes, change nothing).
+  CHECK(at(30.5)[0] == Approx(1.0).epsilon(1e-9));
+  CHECK(at(30.5)[2] == Approx(1.66).epsilon(1e-9));
+  // A quarter and a half of the way to the next centre (theta_d centres 1 degree apart): linear.
+  CHECK(at(30.75)[0] == Approx(1.5).epsilon(1e-9));
+  CHECK(at(31.0)[1] == Approx(2.0 * 1.15).epsilon(1e-9));
+  // Nearest, by contrast, steps at the bin edge (31 degrees).
+  const DirectionPair edge = directions(theta_h, 30.9, 90.5);
+  CHECK(b.Lookup(edge.in, edge.out)[0] == Approx(1.0));
+  CHECK(b.LookupInterpolated(edge.in, edge.out)[0] == Approx(1.8).epsilon(1e-9));
+  // Where no surrounding bin has data: zero, not the -1 marker.
+  const DirectionPair far = directions(DegToRad(5), 60, 20);
+  CHECK(b.LookupInterpolated(far.in, far.out)[0] == 0.0);
+}
+
 TEST_CASE("bad .binary files are refused with the file and the problem named", "[merl_io]") {
   test::TempDir dir;
   WriteMerlBinary(RandomBrdf(3), dir / "good.binary");

@@ -6,6 +6,7 @@
 
 #include "brdf/log_mapping.h"
 #include "core/angles.h"
+#include "core/merl_grid.h"
 
 namespace acq {
 
@@ -18,21 +19,6 @@ std::optional<RowLookup> ParseRowLookup(const std::string& name) {
     if (name == RowLookupName(l)) return l;
   return std::nullopt;
 }
-
-namespace {
-
-// Continuous index coordinates, bin centres at integers.
-struct GridCoordinate {
-  double h, d, p;
-};
-
-GridCoordinate CoordinateOf(const RusinkiewiczAngles& a) {
-  double phi = a.phi_d < 0 ? a.phi_d + kPi : a.phi_d;
-  return {std::sqrt(std::max(a.theta_h, 0.0) / (kPi / 2)) * merl::kThetaH - 0.5,
-          a.theta_d / (kPi / 2) * merl::kThetaD - 0.5, phi / kPi * merl::kPhiD - 0.5};
-}
-
-}  // namespace
 
 bool SampleBasis(const BasisView& basis, const Eigen::Vector3d& in, const Eigen::Vector3d& out,
                  int k, RowLookup lookup, float* row, BasisSample* sample) {
@@ -53,25 +39,15 @@ bool SampleBasisAt(const BasisView& basis, const RusinkiewiczAngles& a, double c
     sample->ref = basis.ref[bin];
     return true;
   }
-  const GridCoordinate g = CoordinateOf(a);
-  const int h0 = int(std::floor(g.h)), d0 = int(std::floor(g.d)), p0 = int(std::floor(g.p));
-  const double fh = g.h - h0, fd = g.d - d0, fp = g.p - p0;
   for (int c = 0; c < k; ++c) row[c] = 0;
   double total = 0, mean = 0, ref = 0;
-  for (int corner = 0; corner < 8; ++corner) {
-    const int dh = corner & 1, dd = (corner >> 1) & 1, dp = (corner >> 2) & 1;
-    merl::BinIndex b;
-    // Beyond the first or last bin centre, clamp (the value is held constant to the edge).
-    b.theta_h = std::clamp(h0 + dh, 0, merl::kThetaH - 1);
-    b.theta_d = std::clamp(d0 + dd, 0, merl::kThetaD - 1);
-    b.phi_d = ((p0 + dp) % merl::kPhiD + merl::kPhiD) % merl::kPhiD;  // periodic
-    const double w = (dh ? fh : 1 - fh) * (dd ? fd : 1 - fd) * (dp ? fp : 1 - fp);
-    const std::size_t bin = b.Flat();
-    if (w <= 0 || !basis.valid[bin]) continue;
-    const float* q = basis.Row(bin);
+  for (const merl::Corner& corner : merl::InterpolationCorners(a)) {
+    const double w = corner.weight;
+    if (w <= 0 || !basis.valid[corner.bin]) continue;
+    const float* q = basis.Row(corner.bin);
     for (int c = 0; c < k; ++c) row[c] += float(w) * q[c];
-    mean += w * basis.mean[bin];
-    ref += w * basis.ref[bin];
+    mean += w * basis.mean[corner.bin];
+    ref += w * basis.ref[corner.bin];
     total += w;
   }
   if (total <= 0) return false;

@@ -16,6 +16,21 @@ std::array<double, 3> MerlBrdf::Lookup(const Eigen::Vector3d& in,
   return {Value(0, bin), Value(1, bin), Value(2, bin)};
 }
 
+std::array<double, 3> MerlBrdf::LookupInterpolated(const Eigen::Vector3d& in,
+                                                   const Eigen::Vector3d& out) const {
+  std::array<double, 3> sum = {0, 0, 0};
+  double total = 0;
+  for (const merl::Corner& corner :
+       merl::InterpolationCorners(IsotropicAnglesFromDirections(in, out))) {
+    if (corner.weight <= 0 || raw[corner.bin] < 0) continue;  // -1: "no data" (MERL marks all 3)
+    for (int c = 0; c < 3; ++c) sum[c] += corner.weight * Value(c, corner.bin);
+    total += corner.weight;
+  }
+  if (total > 0)
+    for (double& v : sum) v /= total;
+  return sum;
+}
+
 MerlBrdf ReadMerlBinary(const std::string& path) {
   std::ifstream f(path, std::ios::binary);
   if (!f) throw UserError(path, "cannot open MERL .binary file", "check the path");

@@ -28,6 +28,12 @@ struct MerlBrdf {
   }
   // MERL's lookup: bin of the directions, then Value. Directions in the surface frame.
   std::array<double, 3> Lookup(const Eigen::Vector3d& in, const Eigen::Vector3d& out) const;
+  // Trilinear between the bin centres around the directions (merl::InterpolationCorners; bins
+  // without data left out, the others' weights renormalised; zeros if none has data): the
+  // tabulated function between its samples, where Lookup is a step at every bin edge (at a
+  // narrow highlight a step of 10% and more, docs/colour.md, "The view nearest the highlight").
+  std::array<double, 3> LookupInterpolated(const Eigen::Vector3d& in,
+                                           const Eigen::Vector3d& out) const;
 };
 
 // Throws UserError naming the file on a short file, wrong dimensions or NaN/Inf values.

@@ -47,6 +47,25 @@ BinIndex BinFromFlat(std::size_t flat) {
   return b;
 }
 
+std::array<Corner, 8> InterpolationCorners(const RusinkiewiczAngles& a) {
+  // Index coordinates in which the bin centres are the integers.
+  const double phi = a.phi_d < 0 ? a.phi_d + kPi : a.phi_d;
+  const double h = std::sqrt(std::max(a.theta_h, 0.0) / (kPi / 2)) * kThetaH - 0.5;
+  const double d = a.theta_d / (kPi / 2) * kThetaD - 0.5, p = phi / kPi * kPhiD - 0.5;
+  const int h0 = int(std::floor(h)), d0 = int(std::floor(d)), p0 = int(std::floor(p));
+  const double fh = h - h0, fd = d - d0, fp = p - p0;
+  std::array<Corner, 8> corners;
+  for (int corner = 0; corner < 8; ++corner) {
+    const int dh = corner & 1, dd = (corner >> 1) & 1, dp = (corner >> 2) & 1;
+    BinIndex b;
+    b.theta_h = ClampIndex(h0 + dh, kThetaH);
+    b.theta_d = ClampIndex(d0 + dd, kThetaD);
+    b.phi_d = ((p0 + dp) % kPhiD + kPhiD) % kPhiD;
+    corners[corner] = {b.Flat(), (dh ? fh : 1 - fh) * (dd ? fd : 1 - fd) * (dp ? fp : 1 - fp)};
+  }
+  return corners;
+}
+
 RusinkiewiczAngles BinCentre(const BinIndex& b) {
   RusinkiewiczAngles a;
   const double u = (b.theta_h + 0.5) / kThetaH;

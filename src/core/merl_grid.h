@@ -11,6 +11,7 @@
 // Midpoints make BinOf(BinCentre(b)) == b exact for every bin, which edge positions are not.
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -47,6 +48,16 @@ BinIndex BinFromFlat(std::size_t flat);
 
 // Position at which a bin is tabulated (phi_h = 0).
 RusinkiewiczAngles BinCentre(const BinIndex& b);
+
+// Trilinear interpolation between bin centres: the 8 centres around the angles and their
+// weights (summing to 1), in the grid's index coordinates (theta_h sqrt-spaced as binned;
+// theta_h and theta_d held constant beyond the first and last centre; phi_d periodic over
+// [0, pi) by reciprocity). Callers skip corners without data and renormalise.
+struct Corner {
+  std::size_t bin = 0;  // flat index
+  double weight = 0;
+};
+std::array<Corner, 8> InterpolationCorners(const RusinkiewiczAngles& a);
 
 // cos(theta_i) * cos(theta_o) clamped to [kCosWeightMin, 1]: the NJR15 cos weight.
 constexpr double kCosWeightMin = 0.01;

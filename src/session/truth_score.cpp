@@ -122,10 +122,14 @@ void ScoreMapAgainstTruth(const Plan& plan, const std::string& dir, const Svbrdf
 void ScoreValidationAgainstTruth(const Plan& plan, const std::string& dir, const SvbrdfMap& map,
                                  const BasisView& basis, const TruthAtPixels& truth_at,
                                  SessionReport* report) {
+  // The truth between its tabulated samples, as the simulated camera renders it (from the
+  // network, sim/synthetic_svbrdf.cpp): a nearest-bin truth steps by up to half a bin's change,
+  // 5% near view 8's highlight, which the capture does not (docs/colour.md).
   const PixelBrdf truth = [&truth_at, w = map.info.width](int x, int y, const Eigen::Vector3d& in,
                                                           const Eigen::Vector3d& out) {
     const int label = truth_at.labels[std::size_t(y) * w + x];
-    return label < 0 ? std::array<double, 3>{} : truth_at.materials[label].Lookup(in, out);
+    return label < 0 ? std::array<double, 3>{}
+                     : truth_at.materials[label].LookupInterpolated(in, out);
   };
   report->validation_truth.clear();
   for (const ValidationSummary& v : report->process.validation) {
