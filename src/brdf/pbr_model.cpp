@@ -1,3 +1,11 @@
+// GCC 12 with AVX-512 (-march=native) warns 50 times in this file that Eigen's matrix-vector
+// kernel may read an uninitialised register (avx512fintrin.h's '__Y'): a false positive inside
+// its own intrinsics, instantiated here by the fit's fixed-size matrices. Silenced for this file
+// only, before its first include (which brings in Eigen), so that a real warning stands out.
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#endif
+
 #include "brdf/pbr_model.h"
 
 #include <Eigen/Dense>
