@@ -49,18 +49,11 @@ def rusinkiewicz(light, camera):
 
 
 def neural_brdf(path, theta_h, theta_d, phi_d):
-    """data/nbrdf/README.md's network, R G B per row."""
-    import h5py
-    with h5py.File(path, "r") as f:
-        layers = [(np.array(f[f"dense_{i}/dense_{i}/kernel:0"]), np.array(f[f"dense_{i}/dense_{i}/bias:0"]))
-                  for i in (1, 2, 3)]
-    x = np.stack([np.sin(theta_h), 0 * theta_h, np.cos(theta_h), np.sin(theta_d) * np.cos(phi_d),
-                  np.sin(theta_d) * np.sin(phi_d), np.cos(theta_d)], 1)
-    for i, (w, b) in enumerate(layers):
-        x = x @ w + b
-        if i < 2:
-            x = np.maximum(x, 0)
-    return np.exp(x) - 1
+    """The material's network (reference_basis.tabulate) at the angles, R G B per row."""
+    from reference_basis import tabulate
+    inputs = np.stack([np.sin(theta_h), 0 * theta_h, np.cos(theta_h), np.sin(theta_d) * np.cos(phi_d),
+                       np.sin(theta_d) * np.sin(phi_d), np.cos(theta_d)], 1)
+    return tabulate(path, inputs).T
 
 
 def merl_table(path):
