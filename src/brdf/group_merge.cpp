@@ -3,6 +3,7 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <limits>
 
 namespace acq {
@@ -52,6 +53,79 @@ std::vector<GroupSums> SumsPerGroup(const Eigen::MatrixXd& features, const std::
   return sums;
 }
 
+// The neighbours FieldNeighbours keeps of each pixel (itself excluded), found in a grid of cells
+// holding about three pixels each.
+constexpr int kNeighbours = 6;
+
+double Median(std::vector<double> v) {
+  if (v.empty()) return std::numeric_limits<double>::quiet_NaN();
+  std::nth_element(v.begin(), v.begin() + std::ptrdiff_t(v.size() / 2), v.end());
+  return v[v.size() / 2];
+}
+
+}  // namespace
+
+std::vector<std::vector<int>> FieldNeighbours(const Eigen::MatrixX2d& field) {
+  const Eigen::Index n = field.rows();
+  std::vector<std::vector<int>> near(static_cast<std::size_t>(n));
+  if (n == 0) return near;
+  const Eigen::RowVector2d lo = field.colwise().minCoeff(), hi = field.colwise().maxCoeff();
+  const Eigen::RowVector2d size = (hi - lo).cwiseMax(1e-15);
+  const int cells = std::max(1, int(std::sqrt(double(n) / 3.0)));
+  auto cell_of = [&](Eigen::Index i, int axis) {
+    return std::clamp(int((field(i, axis) - lo[axis]) / size[axis] * cells), 0, cells - 1);
+  };
+  std::vector<std::vector<int>> grid(std::size_t(cells) * std::size_t(cells));
+  for (Eigen::Index i = 0; i < n; ++i)
+    grid[std::size_t(cell_of(i, 1) * cells + cell_of(i, 0))].push_back(int(i));
+  std::vector<std::pair<double, int>> candidates;
+  for (Eigen::Index i = 0; i < n; ++i) {
+    candidates.clear();
+    const int cx = cell_of(i, 0), cy = cell_of(i, 1);
+    for (int y = std::max(0, cy - 1); y <= std::min(cells - 1, cy + 1); ++y)
+      for (int x = std::max(0, cx - 1); x <= std::min(cells - 1, cx + 1); ++x)
+        for (int j : grid[std::size_t(y * cells + x)])
+          if (j != i) candidates.push_back({(field.row(j) - field.row(i)).squaredNorm(), j});
+    const std::size_t m = std::min<std::size_t>(kNeighbours, candidates.size());
+    std::partial_sort(candidates.begin(), candidates.begin() + std::ptrdiff_t(m), candidates.end());
+    for (std::size_t c = 0; c < m; ++c) near[std::size_t(i)].push_back(candidates[c].second);
+  }
+  return near;
+}
+
+BoundaryStep StepAtBoundary(const Eigen::MatrixXd& features, const Eigen::MatrixX2d& field,
+                            const std::vector<std::vector<int>>& near,
+                            const std::vector<int>& label, int a, int b) {
+  std::vector<double> across, within;
+  for (std::size_t i = 0; i < label.size(); ++i) {
+    if (label[i] != a && label[i] != b) continue;
+    const int other_label = label[i] == a ? b : a;
+    // The other group's nearest neighbour, and the neighbour of its own group at the most
+    // nearly equal distance in the field: the drift between each pair is then alike.
+    int own = -1, other = -1;
+    for (int j : near[i])
+      if (other < 0 && label[std::size_t(j)] == other_label) other = j;
+    if (other < 0) continue;
+    const double reach = (field.row(other) - field.row(Eigen::Index(i))).norm();
+    double best = std::numeric_limits<double>::infinity();
+    for (int j : near[i]) {
+      if (label[std::size_t(j)] != label[i]) continue;
+      const double d = std::abs((field.row(j) - field.row(Eigen::Index(i))).norm() - reach);
+      if (d < best) best = d, own = j;
+    }
+    if (own < 0) continue;
+    const Eigen::RowVectorXd f = features.row(Eigen::Index(i));
+    across.push_back((f - features.row(other)).norm());
+    within.push_back((f - features.row(own)).norm());
+  }
+  BoundaryStep step;
+  step.pixels = int(across.size());
+  if (step.pixels > 0) step.ratio = Median(across) / std::max(Median(within), 1e-300);
+  return step;
+}
+
+namespace {
+
 double Separation(const GroupSums& a, const GroupSums& b) {
   const double n = a.n + b.n;
   const int terms = n > 4 * (2 + kFieldTerms) ? kFieldTerms : 0, p = 2 + terms;
@@ -96,15 +170,24 @@ double GroupSeparation(const Eigen::MatrixXd& features, const Eigen::MatrixX2d& 
 int MergeOverlapping(const Eigen::MatrixXd& features, const Eigen::MatrixX2d& field, int groups,
                      std::vector<int>* label) {
   const std::vector<Terms> z = FieldTerms(field);
+  const std::vector<std::vector<int>> near = FieldNeighbours(field);
   for (;;) {
     const std::vector<GroupSums> sums = SumsPerGroup(features, z, *label, groups);
+    // The pair to merge: the closest under kMergeSeparation, else the one that meets another
+    // with the smallest step under kBoundaryStep (ranked after every pair of the first kind).
     int merge_a = -1, merge_b = -1;
     double closest = std::numeric_limits<double>::infinity();
     for (int a = 0; a < groups; ++a)
       for (int b = a + 1; b < groups; ++b) {
         if (sums[std::size_t(a)].n == 0 || sums[std::size_t(b)].n == 0) continue;
-        const double ratio = Separation(sums[std::size_t(a)], sums[std::size_t(b)]);
-        if (ratio < kMergeSeparation && ratio < closest) closest = ratio, merge_a = a, merge_b = b;
+        double rank = Separation(sums[std::size_t(a)], sums[std::size_t(b)]);
+        if (!(rank < kMergeSeparation) && closest >= kMergeSeparation) {
+          const BoundaryStep step = StepAtBoundary(features, field, near, *label, a, b);
+          rank = step.pixels >= kMinBoundaryPixels && step.ratio < kBoundaryStep
+                     ? kMergeSeparation + step.ratio
+                     : std::numeric_limits<double>::infinity();
+        }
+        if (rank < closest) closest = rank, merge_a = a, merge_b = b;
       }
     if (merge_a < 0) break;
     for (int& l : *label) {

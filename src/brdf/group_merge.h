@@ -9,14 +9,29 @@
 // group's scatter: a normal blob cut in two gives halves 2.7 half-scatters apart; the narrower,
 // so that a tight small material next to a wide one keeps its own group. Two materials seen at
 // the same positions keep their distance whatever the drift.
+//
+// A quadratic does not always describe a material's drift over the whole field: with rows read
+// between bins the card's white paint, cut in two side by side, lay 3.0-3.2 scatters apart on 6
+// offline runs of 8. So two groups that meet in the field are also one material when their
+// features do not jump where they meet: at the shared boundary a pixel's nearest neighbour of
+// the other group is no farther from it in features than a neighbour of its own group as far
+// from it in the field (the same noise and the same drift between each pair), up to
+// kBoundaryStep. The pieces of white paint gave 1.0-1.3 on those runs; two inks side by side,
+// two mixes of a marbled sample, 1.5 and more (docs/reconstruction.md, "Choosing the groups").
 #pragma once
 
 #include <Eigen/Core>
+#include <limits>
 #include <vector>
 
 namespace acq {
 
 inline constexpr double kMergeSeparation = 3.0;
+// sqrt(2): a step across the boundary as large as the features' difference between two
+// neighbours of one group.
+inline constexpr double kBoundaryStep = 1.41421356237;
+// Boundary pixels needed to judge a step: with 1-4 of them, two inks gave 0.86-1.03.
+inline constexpr int kMinBoundaryPixels = 30;
 
 // How far apart groups a and b lie (1 = the narrower group's RMS scatter): the features (n x F)
 // of the pixels labelled a or b fitted jointly by an offset per group plus a quadratic in the
@@ -26,8 +41,24 @@ inline constexpr double kMergeSeparation = 3.0;
 double GroupSeparation(const Eigen::MatrixXd& features, const Eigen::MatrixX2d& field,
                        const std::vector<int>& label, int a, int b);
 
-// Merges the closest pair of groups under kMergeSeparation until none is left; labels stay
-// dense in [0, groups). Returns the number of groups.
+// Each pixel's nearest few pixels in the field (n x 2): its neighbours on the sample.
+std::vector<std::vector<int>> FieldNeighbours(const Eigen::MatrixX2d& field);
+
+// Where groups a and b meet: over their pixels that have neighbours (`near`, FieldNeighbours) of
+// both groups, the median feature distance to the other group's nearest over the median to the
+// neighbour of their own group nearest that distance in the field. NaN with no such pixel.
+struct BoundaryStep {
+  int pixels = 0;
+  double ratio = std::numeric_limits<double>::quiet_NaN();
+};
+BoundaryStep StepAtBoundary(const Eigen::MatrixXd& features, const Eigen::MatrixX2d& field,
+                            const std::vector<std::vector<int>>& near,
+                            const std::vector<int>& label, int a, int b);
+
+// Merges the closest pair of groups under kMergeSeparation until none is left, and then, one
+// pair at a time, the pair with the smallest step at its boundary under kBoundaryStep (from at
+// least kMinBoundaryPixels pixels); labels stay dense in [0, groups). Returns the number of
+// groups.
 int MergeOverlapping(const Eigen::MatrixXd& features, const Eigen::MatrixX2d& field, int groups,
                      std::vector<int>* label);
 
