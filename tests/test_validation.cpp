@@ -1,9 +1,11 @@
 #include <catch2/catch.hpp>
 
 #include <cmath>
+#include <cstdio>
 #include <stdexcept>
 
 #include "acq/validation.h"
+#include "io/float_planes_exr.h"
 
 using namespace acq;
 
@@ -19,4 +21,30 @@ TEST_CASE("a validation view's relative RMS split by label", "[validation]") {
   CHECK(by[1] == 0.0);
   CHECK(by[2] == 0.0);
   CHECK_THROWS_AS(RelativeRmsByLabel(r, {0, 0, 1}, 3), std::invalid_argument);
+}
+
+TEST_CASE("a validation view's data keeps the prediction beside the capture", "[validation]") {
+  // Two pixels: the capture, its directions and the prediction written, read back unchanged;
+  // the prediction is in the file for a reader and the capture's reader ignores it.
+  ValidationData d;
+  d.name = "validation 0";
+  d.width = 2, d.height = 1;
+  d.captured = {0.1f, 0.2f, 0.3f, 0.4f, 0.5f, 0.6f};
+  d.light = {0, 0, 1, 0, 0, 1};
+  d.camera = {0, 0.6f, 0.8f, 0, 0.6f, 0.8f};
+  d.compared = {1, 0};
+  const RgbImage predicted{2, 1, {0.15f, 0.25f, 0.35f, 0, 0, 0}};
+  const std::string path = "test_validation_data.exr";
+  WriteValidationData(d, path, &predicted);
+  const FloatPlanes f = ReadFloatPlanesExr(path);
+  CHECK(f.Plane("predicted.R", path)[0] == 0.15f);
+  CHECK(f.Plane("predicted.B", path)[0] == 0.35f);
+  CHECK(f.Plane("predicted.G", path)[1] == 0.0f);
+  const ValidationData back = ReadValidationData(path);
+  CHECK(back.captured == d.captured);
+  CHECK(back.compared == d.compared);
+  // Without a prediction (a model compared later), no such plane.
+  WriteValidationData(d, path);
+  CHECK(ReadFloatPlanesExr(path).planes.count("predicted.R") == 0);
+  std::remove(path.c_str());
 }

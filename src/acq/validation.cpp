@@ -132,10 +132,12 @@ namespace {
 constexpr const char* kValidationPlanes[3][3] = {{"captured.R", "captured.G", "captured.B"},
                                                  {"light.x", "light.y", "light.z"},
                                                  {"camera.x", "camera.y", "camera.z"}};
+constexpr const char* kPredictedPlanes[3] = {"predicted.R", "predicted.G", "predicted.B"};
 
 }  // namespace
 
-void WriteValidationData(const ValidationData& data, const std::string& path) {
+void WriteValidationData(const ValidationData& data, const std::string& path,
+                         const RgbImage* predicted) {
   FloatPlanes f;
   f.width = data.width;
   f.height = data.height;
@@ -149,6 +151,12 @@ void WriteValidationData(const ValidationData& data, const std::string& path) {
     }
   std::vector<float>& compared = f.planes["compared"];
   compared.assign(data.compared.begin(), data.compared.end());
+  if (predicted && predicted->rgb.size() == 3 * pixels)
+    for (int c = 0; c < 3; ++c) {
+      std::vector<float>& plane = f.planes[kPredictedPlanes[c]];
+      plane.resize(pixels);
+      for (std::size_t p = 0; p < pixels; ++p) plane[p] = predicted->rgb[3 * p + std::size_t(c)];
+    }
   f.attributes["acqValidationView"] = data.name;
   WriteFloatPlanesExr(path, f);
 }

@@ -61,7 +61,11 @@ ValidationResult CompareWithCapture(const SvbrdfMap& map, const BasisView& basis
 
 // The planes captured.{R,G,B}, light.{x,y,z}, camera.{x,y,z} and compared; the name as an
 // attribute. Reading names the file and what is missing when it is not such a file.
-void WriteValidationData(const ValidationData& data, const std::string& path);
+// With `predicted` (a comparison's, the same size), the model's prediction goes beside the
+// capture as predicted.R/G/B (0 where not compared): a reader can find the pixels a view's error
+// comes from. Reading ignores it.
+void WriteValidationData(const ValidationData& data, const std::string& path,
+                         const RgbImage* predicted = nullptr);
 ValidationData ReadValidationData(const std::string& path);
 
 }  // namespace acq

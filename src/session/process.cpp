@@ -232,9 +232,9 @@ ProcessReport ProcessSession(const Plan& plan, SessionCatalog& catalog,
     const std::string render = stem + ".png";
     // The capture and its directions kept, for models made from the map later (acq export).
     const ValidationData data = CaptureOfView(map, std::move(checks[i]));
-    WriteValidationData(data, dir + "/" + stem + ".exr");
     const ValidationResult r =
         Compare(data, MapPixelBrdf(map, mapped.View(), plan.reconstruction.lookup));
+    WriteValidationData(data, dir + "/" + stem + ".exr", &r.predicted);
     ValidationSummary s{name,  r.pixels, r.relative_rms, r.median_relative, r.median_delta_e2000,
                         render};
     WriteComparison(r, dir + "/" + s.render);
