@@ -137,4 +137,7 @@ TEST_CASE("group merge: groups that meet without a step join, a step keeps them 
       StepAtBoundary(apart.features, apart.field, FieldNeighbours(apart.field), apart.label, 0, 1);
   CHECK(none.pixels == 0);
   CHECK(std::isnan(none.ratio));
+  // A field of no extent (a field of view of 0) has no neighbours and so no boundary.
+  const Eigen::MatrixX2d nowhere = Eigen::MatrixX2d::Zero(one.field.rows(), 2);
+  for (const std::vector<int>& n : FieldNeighbours(nowhere)) REQUIRE(n.empty());
 }

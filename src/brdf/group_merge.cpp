@@ -56,6 +56,7 @@ std::vector<GroupSums> SumsPerGroup(const Eigen::MatrixXd& features, const std::
 // The neighbours FieldNeighbours keeps of each pixel (itself excluded), found in a grid of cells
 // holding about three pixels each.
 constexpr int kNeighbours = 6;
+constexpr double kNoExtent = 1e-9;  // radians of the directions' offsets
 
 double Median(std::vector<double> v) {
   if (v.empty()) return std::numeric_limits<double>::quiet_NaN();
@@ -70,6 +71,9 @@ std::vector<std::vector<int>> FieldNeighbours(const Eigen::MatrixX2d& field) {
   std::vector<std::vector<int>> near(static_cast<std::size_t>(n));
   if (n == 0) return near;
   const Eigen::RowVector2d lo = field.colwise().minCoeff(), hi = field.colwise().maxCoeff();
+  // A field of no extent (every pixel seeing the same directions) has no boundaries, and one
+  // cell holding every pixel would cost n^2.
+  if ((hi - lo).maxCoeff() < kNoExtent) return near;
   const Eigen::RowVector2d size = (hi - lo).cwiseMax(1e-15);
   const int cells = std::max(1, int(std::sqrt(double(n) / 3.0)));
   auto cell_of = [&](Eigen::Index i, int axis) {
