@@ -16,8 +16,9 @@
 // features do not jump where they meet: at the shared boundary a pixel's nearest neighbour of
 // the other group is no farther from it in features than a neighbour of its own group as far
 // from it in the field (the same noise and the same drift between each pair), up to
-// kBoundaryStep. The pieces of white paint gave 1.0-1.3 on those runs; two inks side by side,
-// two mixes of a marbled sample, 1.5 and more (docs/reconstruction.md, "Choosing the groups").
+// kBoundaryStep. The pieces of white paint that this joins gave 1.13-1.37 on those runs; the
+// pairs it keeps apart (groups of the 50-ink sample, the card at 10 degrees, mixes of a marbled
+// sample) 1.43 and more: a thin margin (docs/reconstruction.md, "Choosing the groups").
 #pragma once
 
 #include <Eigen/Core>
