@@ -107,6 +107,9 @@ expect "k above the basis" 1 k_too_big.yaml --dry-run -- "k_too_big.yaml:22:6:" 
 variant negative_design 's/^  k: 4$/  k: 4\n  design_sigma_deg: -1/'
 expect "design weighting out of range" 1 negative_design.yaml --dry-run -- \
   "negative_design.yaml:23:" "reconstruction.design_sigma_deg must be in [0, 90] degrees"
+variant negative_normals_prior 's/^  k: 4$/  k: 4\n  normals_prior: -0.1/'
+expect "normals prior negative" 1 negative_normals_prior.yaml --dry-run -- \
+  "negative_normals_prior.yaml:23:" "reconstruction.normals_prior must be >= 0"
 variant empty_bracket 's/bracket_us: \[1000, 8000, 64000\]/bracket_us: []/'
 expect "empty bracket" 1 empty_bracket.yaml --dry-run -- "empty_bracket.yaml:13:" \
   "camera.hdr.bracket_us is empty" "auto: true"

@@ -538,7 +538,7 @@ SimSpec ReadSim(const YAML::Node& root, const Section& top, const std::string& b
 ReconstructionSpec ReadReconstruction(const Section& top, const std::string& base) {
   const Section recon =
       top.Child("reconstruction", {"basis", "k", "eta", "lookup", "row_tile", "method", "groups",
-                                   "design_sigma_deg", "normals"});
+                                   "design_sigma_deg", "normals", "normals_prior"});
   ReconstructionSpec r;
   r.basis_file = Resolve(base, recon.Required("basis"));
   RequireFile(recon, "basis", r.basis_file, "build one with `acq basis build` (README)");
@@ -562,6 +562,7 @@ ReconstructionSpec ReadReconstruction(const Section& top, const std::string& bas
   r.groups = int(recon.Integer("groups", r.groups, 0, 1024));
   r.design_sigma_deg = recon.Number("design_sigma_deg", r.design_sigma_deg);
   r.normals = recon.Flag("normals", r.normals);
+  r.normals_prior = recon.Number("normals_prior", r.normals_prior);
   recon.Checked([&] { r.Check(); });
   return r;
 }
@@ -652,6 +653,9 @@ void SimSpec::Check() const {
 void ReconstructionSpec::Check() const {
   if (!(eta >= 0)) throw UserError("eta", "must be >= 0");
   CheckDesignSigma(design_sigma_deg, "design_sigma_deg");
+  if (!(normals_prior >= 0))
+    throw UserError("normals_prior", "must be >= 0",
+                    "it weighs how near the sample's normal a pixel's normal stays; 0 for none");
 }
 
 Plan LoadPlan(const std::string& path, const std::string& relative_to) {

@@ -14,6 +14,7 @@
 #include "acq/move_planner.h"
 #include "brdf/basis_rows.h"
 #include "brdf/directions.h"
+#include "brdf/normal_search.h"
 #include "brdf/pooled_model.h"
 #include "core/sample_kind.h"
 #include "hw/camera.h"
@@ -110,6 +111,7 @@ struct ReconstructionSpec {  // reconstruction:
   int groups = 0;  // PooledOptions::groups (0: chosen by held-out views)
   double design_sigma_deg = kDefaultDesignSigmaDeg;  // PooledOptions::design_sigma_deg
   bool normals = false;  // reconstruction.normals: each pixel's normal estimated (normal_search.h)
+  double normals_prior = kDefaultNormalsPrior;  // NormalSearchOptions::prior
   void Check() const;
 };
 

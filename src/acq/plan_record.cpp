@@ -191,6 +191,8 @@ std::vector<PlanSetting> PlanSettings(const Plan& plan) {
   if (plan.reconstruction.design_sigma_deg != kDefaultDesignSigmaDeg)
     s.Processing("reconstruction.design_sigma_deg", Number(plan.reconstruction.design_sigma_deg));
   if (plan.reconstruction.normals) s.Processing("reconstruction.normals", "true");
+  if (plan.reconstruction.normals_prior != kDefaultNormalsPrior)
+    s.Processing("reconstruction.normals_prior", Number(plan.reconstruction.normals_prior));
   return s.out;
 }
 

@@ -51,16 +51,21 @@ enum class NormalSearchMethod { kGrid, kQuadratic };
 const char* NormalSearchMethodName(NormalSearchMethod method);  // "grid", "quadratic"
 std::optional<NormalSearchMethod> ParseNormalSearchMethod(const std::string& name);
 
+// 0.5: through acqd a dark fabric on a flat card took 9-12 degrees of false tilt at 0.05 (median
+// 3.3 at 0.5), before the evidence test (NormalSearchOptions::evidence); offline the figures move
+// by hundredths. Lower priors trade normals over the relief for validation views
+// (docs/reconstruction.md, "Normals").
+inline constexpr double kDefaultNormalsPrior = 0.5;
+
 struct NormalSearchOptions {
   bool enabled = false;
   double max_tilt_deg = 25;  // the cone searched around the sample's normal
   int components = 8;        // k of the search's solves (fewer than the views: identifiable)
   NormalCriterion criterion = NormalCriterion::kCentre;  // docs/reconstruction.md, "Normals"
   double eta = kDefaultEta;
-  // Weight of tan^2(tilt) against the RMS log-space misfit. 0.5: through acqd a dark fabric on a
-  // flat card took 9-12 degrees of false tilt at 0.05 (median 3.3 at 0.5); offline the figures
-  // move by hundredths (docs/reconstruction.md, "Normals").
-  double prior = 0.5;
+  // Weight of tan^2(tilt) against the RMS log-space misfit (docs/reconstruction.md, "Normals",
+  // for the measured trade between the normals and the validation views).
+  double prior = kDefaultNormalsPrior;
   // How the coarse grid's best is refined: 3 x 3 grids, each halving the step, `levels` times
   // (kGrid), or fewer such levels and then a Newton step on the quadratic fitted to the last
   // 3 x 3 (kQuadratic). docs/reconstruction.md, "Normals", measures both.

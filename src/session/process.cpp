@@ -165,6 +165,7 @@ ReconstructionReport ReconstructMap(const Plan& plan, const MappedBasis& mapped,
   options.pooled.groups = plan.reconstruction.groups;
   options.pooled.design_sigma_deg = plan.reconstruction.design_sigma_deg;
   options.normals.enabled = plan.reconstruction.normals;
+  options.normals.prior = plan.reconstruction.normals_prior;
   options.progress = false;
   SvbrdfMapInfo info;
   info.basis = plan.reconstruction.basis_file;
