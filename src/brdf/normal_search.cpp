@@ -450,6 +450,7 @@ PooledModel FitNormalReference(const BasisView& basis, const PixelObservations& 
   // were chosen for (weighted to them, the study's card at 4 degrees: normals over the relief
   // 2.16 against 1.08 degrees, false tilt 0.76 against 0.59).
   reference.design_sigma_deg = 0;
+  reference.merge_in_field = false;
   return FitPooledModel(basis, sample, solve, reference);
 }
 

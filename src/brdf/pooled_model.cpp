@@ -577,11 +577,11 @@ PooledModel FitPooledModel(const BasisView& basis, const PixelObservations& samp
   // The merge's inputs, only when it runs (a forced number of groups is kept as k-means cut it).
   const bool merge = options.groups <= 0;
   Eigen::MatrixXd feature_matrix(merge ? pixels.size() : 0, 3 * model.features);
-  Eigen::MatrixX2d field_matrix(feature_matrix.rows(), 2);
+  Eigen::MatrixX2d field_matrix = Eigen::MatrixX2d::Zero(feature_matrix.rows(), 2);
   for (Eigen::Index i = 0; i < feature_matrix.rows(); ++i) {
     feature_matrix.row(i) = Eigen::Map<const Eigen::RowVectorXd>(
         pixels[std::size_t(i)].feature.data(), feature_matrix.cols());
-    field_matrix.row(i) = pixels[std::size_t(i)].field.transpose();
+    if (options.merge_in_field) field_matrix.row(i) = pixels[std::size_t(i)].field.transpose();
   }
   std::vector<int> label;  // the best labelling so far, of `groups` groups
   int groups = 0, previous = 0, worse_in_a_row = 0;

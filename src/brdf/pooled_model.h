@@ -57,6 +57,11 @@ struct PooledOptions {
   // fractions by the centre's held-out views, as its components are: the normal search's
   // reference (normal_search.h), which must predict the material at directions no view saw.
   std::vector<double> centre_eta_fractions;
+  // Whether the merge of k-means groups (group_merge.h) takes the field's drift out and joins
+  // groups that meet without a step. Off: pieces whose means lie within kMergeSeparation
+  // scatters are joined, drift and all (the rule before the field was used): the normal search's
+  // reference (normal_search.h).
+  bool merge_in_field = true;
   void Check() const;  // throws UserError
 };
 
