@@ -54,6 +54,9 @@ TEST_CASE("group merge: pieces of one drifting material join, another material s
   // (0.73 scatter): the rule before the drift was taken out kept them.
   const Eigen::MatrixX2d nowhere = Eigen::MatrixX2d::Zero(s.field.rows(), 2);
   CHECK(GroupSeparation(s.features, nowhere, s.label, 0, 1) > kMergeSeparation);
+  // ... and the merge keeps all three: a field of no extent has no boundary to join them at.
+  std::vector<int> unmerged = s.label;
+  CHECK(MergeOverlapping(s.features, nowhere, 3, &unmerged) == 3);
 
   std::vector<int> label = s.label;
   REQUIRE(MergeOverlapping(s.features, s.field, 3, &label) == 2);

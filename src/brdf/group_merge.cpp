@@ -175,6 +175,8 @@ int MergeOverlapping(const Eigen::MatrixXd& features, const Eigen::MatrixX2d& fi
                      std::vector<int>* label) {
   const std::vector<Terms> z = FieldTerms(field);
   const std::vector<std::vector<int>> near = FieldNeighbours(field);
+  const bool any_neighbours =
+      std::any_of(near.begin(), near.end(), [](const std::vector<int>& n) { return !n.empty(); });
   for (;;) {
     const std::vector<GroupSums> sums = SumsPerGroup(features, z, *label, groups);
     // The pair to merge: the closest under kMergeSeparation, else the one that meets another
@@ -185,11 +187,13 @@ int MergeOverlapping(const Eigen::MatrixXd& features, const Eigen::MatrixX2d& fi
       for (int b = a + 1; b < groups; ++b) {
         if (sums[std::size_t(a)].n == 0 || sums[std::size_t(b)].n == 0) continue;
         double rank = Separation(sums[std::size_t(a)], sums[std::size_t(b)]);
-        if (!(rank < kMergeSeparation) && closest >= kMergeSeparation) {
-          const BoundaryStep step = StepAtBoundary(features, field, near, *label, a, b);
-          rank = step.pixels >= kMinBoundaryPixels && step.ratio < kBoundaryStep
-                     ? kMergeSeparation + step.ratio
-                     : std::numeric_limits<double>::infinity();
+        if (!(rank < kMergeSeparation)) {  // not by separation: by the step where they meet
+          rank = std::numeric_limits<double>::infinity();
+          if (any_neighbours && closest >= kMergeSeparation) {
+            const BoundaryStep step = StepAtBoundary(features, field, near, *label, a, b);
+            if (step.pixels >= kMinBoundaryPixels && step.ratio < kBoundaryStep)
+              rank = kMergeSeparation + step.ratio;
+          }
         }
         if (rank < closest) closest = rank, merge_a = a, merge_b = b;
       }
