@@ -6,6 +6,8 @@
 #include <cstddef>
 #include <limits>
 
+#include "brdf/evaluation.h"  // Median
+
 namespace acq {
 namespace {
 
@@ -57,12 +59,6 @@ std::vector<GroupSums> SumsPerGroup(const Eigen::MatrixXd& features, const std::
 // holding about three pixels each.
 constexpr int kNeighbours = 6;
 constexpr double kNoExtent = 1e-9;  // radians of the directions' offsets
-
-double Median(std::vector<double> v) {
-  if (v.empty()) return std::numeric_limits<double>::quiet_NaN();
-  std::nth_element(v.begin(), v.begin() + std::ptrdiff_t(v.size() / 2), v.end());
-  return v[v.size() / 2];
-}
 
 }  // namespace
 
