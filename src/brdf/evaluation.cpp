@@ -47,11 +47,17 @@ std::array<ChannelError, 3> EvaluateHomogeneous(const BasisView& basis, const Me
   return result;
 }
 
+double MedianInPlace(double* begin, double* end) {
+  if (begin == end) return std::nan("");
+  const std::ptrdiff_t n = end - begin;
+  double* middle = begin + n / 2;
+  std::nth_element(begin, middle, end);
+  if (n % 2) return *middle;
+  return 0.5 * (*std::max_element(begin, middle) + *middle);  // the two middle values
+}
+
 double Median(std::vector<double> values) {
-  if (values.empty()) return std::nan("");
-  const std::size_t n = values.size();
-  std::sort(values.begin(), values.end());
-  return n % 2 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
+  return MedianInPlace(values.data(), values.data() + values.size());
 }
 
 }  // namespace acq

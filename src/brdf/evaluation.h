@@ -24,5 +24,8 @@ std::array<ChannelError, 3> EvaluateHomogeneous(const BasisView& basis, const Me
                                                 MerlBrdf* reconstruction = nullptr);
 
 double Median(std::vector<double> values);
+// The median of [begin, end), reordering it (no copy: for the many small medians of
+// colour_outliers.cpp); NaN when empty.
+double MedianInPlace(double* begin, double* end);
 
 }  // namespace acq

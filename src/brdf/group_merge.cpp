@@ -55,14 +55,11 @@ std::vector<GroupSums> SumsPerGroup(const Eigen::MatrixXd& features, const std::
   return sums;
 }
 
-// The neighbours FieldNeighbours keeps of each pixel (itself excluded), found in a grid of cells
-// holding about three pixels each.
-constexpr int kNeighbours = 6;
 constexpr double kNoExtent = 1e-9;  // radians of the directions' offsets
 
 }  // namespace
 
-std::vector<std::vector<int>> FieldNeighbours(const Eigen::MatrixX2d& field) {
+std::vector<std::vector<int>> FieldNeighbours(const Eigen::MatrixX2d& field, int count) {
   const Eigen::Index n = field.rows();
   std::vector<std::vector<int>> near(static_cast<std::size_t>(n));
   if (n == 0) return near;
@@ -71,7 +68,8 @@ std::vector<std::vector<int>> FieldNeighbours(const Eigen::MatrixX2d& field) {
   // cell holding every pixel would cost n^2.
   if ((hi - lo).maxCoeff() < kNoExtent) return near;
   const Eigen::RowVector2d size = (hi - lo).cwiseMax(1e-15);
-  const int cells = std::max(1, int(std::sqrt(double(n) / 3.0)));
+  // Cells of about count / 2 pixels each: the nine searched hold four times the neighbours kept.
+  const int cells = std::max(1, int(std::sqrt(2.0 * double(n) / std::max(count, 1))));
   auto cell_of = [&](Eigen::Index i, int axis) {
     return std::clamp(int((field(i, axis) - lo[axis]) / size[axis] * cells), 0, cells - 1);
   };
@@ -86,7 +84,7 @@ std::vector<std::vector<int>> FieldNeighbours(const Eigen::MatrixX2d& field) {
       for (int x = std::max(0, cx - 1); x <= std::min(cells - 1, cx + 1); ++x)
         for (int j : grid[std::size_t(y * cells + x)])
           if (j != i) candidates.push_back({(field.row(j) - field.row(i)).squaredNorm(), j});
-    const std::size_t m = std::min<std::size_t>(kNeighbours, candidates.size());
+    const std::size_t m = std::min<std::size_t>(std::size_t(std::max(count, 0)), candidates.size());
     std::partial_sort(candidates.begin(), candidates.begin() + std::ptrdiff_t(m), candidates.end());
     for (std::size_t c = 0; c < m; ++c) near[std::size_t(i)].push_back(candidates[c].second);
   }

@@ -42,8 +42,12 @@ inline constexpr int kMinBoundaryPixels = 30;
 double GroupSeparation(const Eigen::MatrixXd& features, const Eigen::MatrixX2d& field,
                        const std::vector<int>& label, int a, int b);
 
-// Each pixel's nearest few pixels in the field (n x 2): its neighbours on the sample.
-std::vector<std::vector<int>> FieldNeighbours(const Eigen::MatrixX2d& field);
+// Each pixel's nearest `count` pixels in the field (n x 2), about: its neighbours on the sample,
+// found in a grid of cells, among those of its own cell and the eight around it. None where the
+// field has no extent.
+inline constexpr int kBoundaryNeighbours = 6;
+std::vector<std::vector<int>> FieldNeighbours(const Eigen::MatrixX2d& field,
+                                              int count = kBoundaryNeighbours);
 
 // Where groups a and b meet: over their pixels that have neighbours (`near`, FieldNeighbours) of
 // both groups, the median feature distance to the other group's nearest over the median to the

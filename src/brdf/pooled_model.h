@@ -73,7 +73,10 @@ struct PooledGroup {
   double strength = 0;          // lambda of the prior; infinite: the pixel is its centre
   int sample_pixels = 0;
   double effective_pixels = 0;  // the sample pixels the centre's weights amount to
-  double held_out_rms = 0;      // the group's pixels' leave-one-view-out RMS (log space)
+  // Its sample pixels' observations the centre left out, their colour departing from their
+  // neighbours' at the same view (colour_outliers.h: fringes at ink edges).
+  int colour_outliers = 0;
+  double held_out_rms = 0;  // the group's pixels' leave-one-view-out RMS (log space)
   // A pixel whose observations the centre misses by more than this (RMS, log space) is not of
   // the group: the 99th percentile over the group's sample pixels.
   double misfit_limit = 0;

@@ -78,6 +78,7 @@ std::string SessionReport::Json() const {
     for (const PooledGroup& g : r.model.groups)
       groups.push_back({{"sample_pixels", g.sample_pixels},
                         {"centre_components", g.centre_components},
+                        {"colour_outliers", g.colour_outliers},
                         {"strength", g.strength},
                         {"held_out_rms", g.held_out_rms}});
     for (const PooledModel::Trial& t : r.model.selection)
