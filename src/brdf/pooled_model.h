@@ -11,7 +11,9 @@
 //   - each group's centre components k_c (up to the basis's stored ones): one view left out of
 //     all the group's pixels at once, the centre fitted from the rest, its error on that view;
 //   - each group's prior strength lambda: each pixel's exact leave-one-view-out error of the
-//     ridge towards the centre (hat-matrix formula, no refits), summed over the group.
+//     ridge towards the centre its solve uses, fitted from every view (hat-matrix formula, no
+//     refits), summed over the group: whether the pixels depart from their group where the
+//     group has looked (G, above, is judged with the view left out of the centre too).
 // The per-pixel solve that uses the model is pooled_solver.h.
 #pragma once
 
