@@ -622,6 +622,18 @@ PixelSolution SolvePooled(const sim::SyntheticSvbrdf& sample_scene,
   return s;
 }
 
+// A group's centre scored over the whole grid against a material's truth, averaged over R, G, B.
+double CentreError(const PooledModel& model, const PooledGroup& group, int material,
+                   const HeldOutSet& truth) {
+  double e = 0;
+  for (int ch = 0; ch < 3; ++ch) {
+    const Eigen::Map<const Eigen::VectorXf> c(&group.centre[std::size_t(ch) * model.components],
+                                              group.centre_components);
+    e += truth.LogRmse(material * 3 + ch, c.cast<double>()) / 3;
+  }
+  return e;
+}
+
 }  // namespace
 
 TEST_CASE("the leave-one-view-out residual is each view predicted by the solve without it",
@@ -750,17 +762,8 @@ TEST_CASE("pooled: a group's centre is weighted to the plan's directions", "[pix
       const PooledModel w = FitPooledModel(d.basis.View(), obs, solve, weighted);
       REQUIRE(a.groups.size() == 1);
       REQUIRE(w.groups.size() == 1);
-      auto error = [&](const PooledModel& model) {
-        const PooledGroup& g = model.groups[0];
-        double e = 0;
-        for (int ch = 0; ch < 3; ++ch) {
-          const Eigen::Map<const Eigen::VectorXf> c(&g.centre[std::size_t(ch) * model.components],
-                                                    g.centre_components);
-          e += truth.LogRmse(m * 3 + ch, c.cast<double>()) / 3;
-        }
-        return e;
-      };
-      const double ea = error(a), ew = error(w);
+      const double ea = CentreError(a, a.groups[0], m, truth);
+      const double ew = CentreError(w, w.groups[0], m, truth);
       WARN(d.names[m] << " at " << fov << " deg: centre " << ea << " with every pixel alike, " << ew
                       << " weighted to the design (" << w.groups[0].effective_pixels
                       << " effective pixels of " << w.groups[0].sample_pixels << ")");
@@ -809,14 +812,7 @@ TEST_CASE("pooled: a centre leaves out the colour fringes at an ink's edge", "[p
   PooledOptions one;
   one.groups = 1;
   auto centre_error = [&](const PooledModel& model) {
-    const PooledGroup& g = model.groups.at(0);
-    double e = 0;
-    for (int ch = 0; ch < 3; ++ch) {
-      const Eigen::Map<const Eigen::VectorXf> c(&g.centre[std::size_t(ch) * model.components],
-                                                g.centre_components);
-      e += truth.LogRmse(material * 3 + ch, c.cast<double>()) / 3;
-    }
-    return e;
+    return CentreError(model, model.groups.at(0), material, truth);
   };
   const PooledModel from_clean = FitPooledModel(d.basis.View(), clean, PerPixel(), one);
   const PooledModel from_fringed = FitPooledModel(d.basis.View(), fringed, PerPixel(), one);
@@ -850,12 +846,7 @@ TEST_CASE("pooled: one material over a field keeps to its group's centre", "[pix
   const PooledGroup& largest = *std::max_element(
       model.groups.begin(), model.groups.end(),
       [](const PooledGroup& a, const PooledGroup& b) { return a.sample_pixels < b.sample_pixels; });
-  double centre = 0;
-  for (int ch = 0; ch < 3; ++ch) {
-    const Eigen::Map<const Eigen::VectorXf> c(&largest.centre[std::size_t(ch) * model.components],
-                                              largest.centre_components);
-    centre += truth.LogRmse(ch, c.cast<double>()) / 3;
-  }
+  const double centre = CentreError(model, largest, 0, truth);
   const double map = MedianPixelError(scene, pooled, truth);
   WARN("white paint over 4 degrees: map " << map << ", its largest group's centre " << centre
                                           << " (strength " << largest.strength << ")\n"
