@@ -7,7 +7,8 @@
 //     leave-one-view-out error with its group's prior; the smallest G within 1% of the best
 //     (a larger model must earn its keep: "model no more than a scene needs");
 //   - each group's centre from its pixels weighted by how near their directions are to the
-//     plan's (design_sigma_deg): the directions were optimised for the whole grid's error;
+//     plan's (design_sigma_deg): the directions were optimised for the whole grid's error; then
+//     again from the 90% of them that centre explains best (mixed pixels and strays left out);
 //   - each group's centre components k_c (up to the basis's stored ones): one view left out of
 //     all the group's pixels at once, the centre fitted from the rest, its error on that view;
 //   - each group's prior strength lambda: each pixel's exact leave-one-view-out error of the
