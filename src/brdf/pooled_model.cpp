@@ -564,16 +564,17 @@ double HeldOutAtBestStrength(const std::vector<SamplePixel>& pixels,
 
 // The strength with the least leave-one-view-out error over the group's pixels, each pixel's
 // left-out view judged against the centre its solve will use (fit->centre, from every view), as
-// the pooled solve judges whether a pixel takes the prior at all (pooled_solver.h). So the
+// the pooled solve judges whether a pixel takes the prior at all (pooled_solver.cpp). So the
 // strength answers whether the pixels depart from their group where the group has looked, not
 // how well a centre extrapolates to a view that none of them saw: judged the second way (the
 // view left out of the centre too), the held-out views took weak priors on one material seen
 // over a field (white paint alone through acqd: strength 20, 0.298 against 0.264 with the
 // centre itself, its homogeneous error 0.265), because a pixel's own ridge extrapolates to a
 // missing view more smoothly than a centre fitted without it; the map paid at the field's edges
-// (docs/reconstruction.md, "The prior's strength"). Where pixels do differ (the marbled
-// sample) both ways choose weak priors. The error reported (fit->squared_error) is still the
-// honest held-out one, the view left out of the centre too, at the chosen strength.
+// (docs/reconstruction.md, "The prior's strength judged against the centre the solve uses").
+// Where pixels do differ (the marbled sample) both ways choose weak priors. The error reported
+// (fit->squared_error) is still the honest held-out one, the view left out of the centre too, at
+// the chosen strength.
 void ChooseStrength(const std::vector<SamplePixel>& pixels, const std::vector<int>& members,
                     const ViewStats& stats, double eta, const std::vector<double>& grid,
                     GroupFit* fit) {
