@@ -590,21 +590,30 @@ void ChooseStrength(const std::vector<SamplePixel>& pixels, const std::vector<in
   fit->observations = held_out.observations;
 }
 
-// The RMS misfit (log space) of a centre (K x 3) to a pixel's observations.
-double CentreMisfit(const SamplePixel& p, const Eigen::MatrixXd& centre) {
-  const Eigen::MatrixXd r = p.y - p.rows.cast<double>() * centre;
-  return std::sqrt(r.squaredNorm() / (3.0 * double(p.view.size())));
+// The RMS misfit (log space) of a centre (K x 3) to each member's observations, in order.
+std::vector<double> CentreMisfits(const std::vector<SamplePixel>& pixels,
+                                  const std::vector<int>& members, const Eigen::MatrixXd& centre) {
+  std::vector<double> misfit;
+  for (int i : members) {
+    const SamplePixel& p = pixels[i];
+    const Eigen::MatrixXd r = p.y - p.rows.cast<double>() * centre;
+    misfit.push_back(std::sqrt(r.squaredNorm() / (3.0 * double(p.view.size()))));
+  }
+  return misfit;
+}
+
+// The given percentile of the values (taken by copy: nth_element reorders them).
+double PercentileOf(std::vector<double> values, double percentile) {
+  const std::size_t at =
+      std::min(values.size() - 1, std::size_t(percentile * double(values.size())));
+  std::nth_element(values.begin(), values.begin() + at, values.end());
+  return values[at];
 }
 
 // The given percentile over the members of the RMS misfit of the centre to each one's data.
 double MisfitPercentile(const std::vector<SamplePixel>& pixels, const std::vector<int>& members,
                         const Eigen::MatrixXd& centre, double percentile) {
-  std::vector<double> misfit;
-  for (int i : members) misfit.push_back(CentreMisfit(pixels[i], centre));
-  const std::size_t at =
-      std::min(misfit.size() - 1, std::size_t(percentile * double(misfit.size())));
-  std::nth_element(misfit.begin(), misfit.begin() + at, misfit.end());
-  return misfit[at];
+  return PercentileOf(CentreMisfits(pixels, members, centre), percentile);
 }
 
 // A group's centre is fitted again from the members its first fit explains best: this share of
@@ -618,10 +627,11 @@ std::vector<int> MembersExplainedBest(const std::vector<SamplePixel>& pixels,
                                       const std::vector<int>& members,
                                       const Eigen::MatrixXd& centre) {
   if (int(members.size()) < 2 * kMinUsableSample) return members;  // too few to spare any
-  const double limit = MisfitPercentile(pixels, members, centre, kCentreKeptShare);
+  const std::vector<double> misfit = CentreMisfits(pixels, members, centre);
+  const double limit = PercentileOf(misfit, kCentreKeptShare);
   std::vector<int> kept;
-  for (int i : members)
-    if (CentreMisfit(pixels[i], centre) <= limit) kept.push_back(i);
+  for (std::size_t m = 0; m < members.size(); ++m)
+    if (misfit[m] <= limit) kept.push_back(members[m]);
   return kept;
 }
 
