@@ -8,7 +8,8 @@
 //     (a larger model must earn its keep: "model no more than a scene needs");
 //   - each group's centre from its pixels weighted by how near their directions are to the
 //     plan's (design_sigma_deg): the directions were optimised for the whole grid's error; then
-//     again from the 90% of them that centre explains best (mixed pixels and strays left out);
+//     again from the 90% of them that centre explains best (mixed pixels and strays left out),
+//     unless the held-out views say the centre from every member was clearly better;
 //   - each group's centre components k_c (up to the basis's stored ones): one view left out of
 //     all the group's pixels at once, the centre fitted from the rest, its error on that view;
 //   - each group's prior strength lambda: each pixel's exact leave-one-view-out error of the
@@ -75,6 +76,9 @@ struct PooledGroup {
   double centre_eta = 0;        // the ridge the centre was fitted with
   double strength = 0;          // lambda of the prior; infinite: the pixel is its centre
   int sample_pixels = 0;
+  // The sample pixels the centre was fitted from: those it explains best, or every member
+  // (pooled_model.cpp, FitGroup).
+  int centre_members = 0;
   double effective_pixels = 0;  // the sample pixels the centre's weights amount to
   // Its sample pixels' observations the centre left out, their colour departing from their
   // neighbours' at the same view (colour_outliers.h: fringes at ink edges).

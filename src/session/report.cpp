@@ -77,6 +77,7 @@ std::string SessionReport::Json() const {
     Json groups = Json::array(), tried = Json::array();
     for (const PooledGroup& g : r.model.groups)
       groups.push_back({{"sample_pixels", g.sample_pixels},
+                        {"centre_members", g.centre_members},
                         {"centre_components", g.centre_components},
                         {"colour_outliers", g.colour_outliers},
                         {"strength", g.strength},
