@@ -144,3 +144,13 @@ TEST_CASE("group merge: groups that meet without a step join, a step keeps them 
   const Eigen::MatrixX2d nowhere = Eigen::MatrixX2d::Zero(one.field.rows(), 2);
   for (const std::vector<int>& n : FieldNeighbours(nowhere)) REQUIRE(n.empty());
 }
+
+TEST_CASE("two labellings are the same grouping whatever the groups' numbers", "[pooled]") {
+  CHECK(SameGrouping({0, 0, 1, 2, 1}, {2, 2, 0, 1, 0}));
+  CHECK(SameGrouping({}, {}));
+  // One group cut in two, two groups joined, a pixel moved, different lengths: not the same.
+  CHECK_FALSE(SameGrouping({0, 0, 1, 1}, {0, 2, 1, 1}));
+  CHECK_FALSE(SameGrouping({0, 1, 2, 2}, {0, 0, 1, 1}));
+  CHECK_FALSE(SameGrouping({0, 0, 1, 1}, {0, 1, 1, 1}));
+  CHECK_FALSE(SameGrouping({0, 0, 1}, {0, 0, 1, 1}));
+}

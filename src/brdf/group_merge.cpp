@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstddef>
 #include <limits>
+#include <map>
 
 #include "brdf/evaluation.h"  // Median
 
@@ -199,6 +200,18 @@ int MergeOverlapping(const Eigen::MatrixXd& features, const Eigen::MatrixX2d& fi
     --groups;
   }
   return groups;
+}
+
+bool SameGrouping(const std::vector<int>& a, const std::vector<int>& b) {
+  if (a.size() != b.size()) return false;
+  std::map<int, int> a_to_b, b_to_a;
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    // emplace keeps the first pairing seen; any other pairing of either label differs.
+    if (a_to_b.emplace(a[i], b[i]).first->second != b[i] ||
+        b_to_a.emplace(b[i], a[i]).first->second != a[i])
+      return false;
+  }
+  return true;
 }
 
 }  // namespace acq

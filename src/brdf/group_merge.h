@@ -67,4 +67,9 @@ BoundaryStep StepAtBoundary(const Eigen::MatrixXd& features, const Eigen::Matrix
 int MergeOverlapping(const Eigen::MatrixXd& features, const Eigen::MatrixX2d& field, int groups,
                      std::vector<int>* label);
 
+// Whether two labellings of the same pixels cut them into the same groups, whatever the groups'
+// numbers: the pooled model's search for the number of groups asks whether k-means, seeded with
+// more groups, found anything new after the merge.
+bool SameGrouping(const std::vector<int>& a, const std::vector<int>& b);
+
 }  // namespace acq

@@ -451,6 +451,7 @@ PooledModel FitNormalReference(const BasisView& basis, const PixelObservations& 
   // 2.16 against 1.08 degrees, false tilt 0.76 against 0.59).
   reference.design_sigma_deg = 0;
   reference.merge_in_field = false;
+  reference.search_past_merges = false;
   return FitPooledModel(basis, sample, solve, reference);
 }
 
