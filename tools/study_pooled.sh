@@ -10,11 +10,7 @@ cd "$(dirname "$0")/.."
 acq=build/src/cli/acq
 out=out/study/pooled
 mkdir -p "$out"
-basis=out/main/basis116.acqb
-dirs=out/main/optimized20.tsv
-for f in "$basis" "$dirs"; do
-  [ -f "$f" ] || { echo "study_pooled: $f is missing: run tools/run-main.sh first" >&2; exit 1; }
-done
+source tools/main-inputs.sh  # basis, dirs
 tsv="$out/results.tsv"
 printf 'case\tfov_deg\tnoise\tmethod\tmedian\tseconds\tmaterials\n' >"$tsv"
 

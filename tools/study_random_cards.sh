@@ -14,11 +14,7 @@ cd "$(dirname "$0")/.."
 acq=build/src/cli/acq
 out=out/study/random_cards
 mkdir -p "$out"
-basis=out/main/basis116.acqb
-dirs=out/main/optimized20.tsv
-for f in "$basis" "$dirs"; do
-  [ -f "$f" ] || { echo "study_random_cards: $f is missing: run tools/run-main.sh first" >&2; exit 1; }
-done
+source tools/main-inputs.sh  # basis, dirs
 seeds=("$@")
 [ ${#seeds[@]} -gt 0 ] || seeds=(1 2 3 4 5)
 tsv="$out/results.tsv"
