@@ -1169,8 +1169,13 @@ TEST_CASE("normals of an embossed glossy card are recovered; flat areas stay fla
   REQUIRE(relief_error.size() > 100);
   REQUIRE(flat_error.size() > 100);
   // The issue's goals (2 degrees over the relief, 0.5 of false tilt on flat areas); measured
-  // here 1.26 and 0.21 (criterion centre), against 4.6 degrees for the sample's normal assumed.
+  // here 1.21 and 0.00 (criterion centre), against 4.6 degrees for the sample's normal assumed.
   INFO("relief " << Median(relief_error) << ", flat " << Median(flat_error));
+  // The reference takes a tilted pixel's colour (brass's highlight caught or missed) as data to
+  // judge normals by, not as a fringe to leave out (PooledOptions::leave_out_colour_fringes):
+  // with fringes left out the relief's error was 1.49 degrees here, 2.77 against 1.27 on the
+  // normals study's 128 x 128 brass card.
+  for (const PooledGroup& g : reference.groups) CHECK(g.colour_outliers == 0);
   CHECK(Median(relief_error) < 2.0);
   CHECK(Median(flat_error) < 0.5);
   CHECK(Median(assumed_error) > 3.0);

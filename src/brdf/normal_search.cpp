@@ -452,6 +452,7 @@ PooledModel FitNormalReference(const BasisView& basis, const PixelObservations& 
   reference.design_sigma_deg = 0;
   reference.merge_in_field = false;
   reference.search_past_merges = false;
+  reference.leave_out_colour_fringes = false;
   return FitPooledModel(basis, sample, solve, reference);
 }
 

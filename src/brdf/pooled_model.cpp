@@ -414,11 +414,14 @@ struct ViewStats {
   Eigen::MatrixXd a_all, b_all;
   double effective_pixels = 0;  // (sum w)^2 / sum w^2
   int left_out = 0;             // observations left out as colour fringes (GroupColourOutliers)
+  // leave_out_fringes: PooledOptions::leave_out_colour_fringes.
   ViewStats(const std::vector<SamplePixel>& pixels, const std::vector<int>& members, int K,
-            int views, double design_sigma)
+            int views, double design_sigma, bool leave_out_fringes)
       : a(views, Eigen::MatrixXd::Zero(K, K)), b(views, Eigen::MatrixXd::Zero(K, 3)), s(views, 0) {
     const std::vector<double> weights = DesignWeights(pixels, members, design_sigma);
-    const std::vector<std::uint8_t> fringe = GroupColourOutliers(pixels, members, views);
+    const std::vector<std::uint8_t> fringe =
+        leave_out_fringes ? GroupColourOutliers(pixels, members, views)
+                          : std::vector<std::uint8_t>(members.size() * std::size_t(views), 0);
     double sum_sq = 0;
     for (double w : weights) sum_sq += w * w;
     effective_pixels = sum_sq > 0 ? 1.0 / sum_sq : 0.0;
@@ -653,7 +656,7 @@ PooledGroup FitGroup(const std::vector<SamplePixel>& pixels, const std::vector<i
                      int k, int views, double design_sigma, double eta,
                      const PooledOptions& options, const std::vector<double>& grid,
                      double* squared) {
-  const ViewStats stats(pixels, members, K, views, design_sigma);
+  const ViewStats stats(pixels, members, K, views, design_sigma, options.leave_out_colour_fringes);
   GroupFit whole;
   double centre_eta = eta;
   whole.centre_components = ChooseCentreComponents(stats, k, eta);
@@ -663,7 +666,7 @@ PooledGroup FitGroup(const std::vector<SamplePixel>& pixels, const std::vector<i
   GroupFit trimmed = whole;
   whole.centre = stats.Centre(whole.centre_components, centre_eta);
   const std::vector<int> explained = MembersExplainedBest(pixels, members, whole.centre);
-  const ViewStats kept(pixels, explained, K, views, design_sigma);
+  const ViewStats kept(pixels, explained, K, views, design_sigma, options.leave_out_colour_fringes);
   trimmed.centre = kept.Centre(trimmed.centre_components, centre_eta);
   ChooseStrength(pixels, members, kept, eta, grid, &trimmed);
   bool from_every_member = false;
@@ -752,7 +755,8 @@ PooledModel FitPooledModel(const BasisView& basis, const PixelObservations& samp
     double squared = 0;
     for (const std::vector<int>& members : members_of(trial, size)) {
       if (members.empty()) continue;
-      const ViewStats stats(pixels, members, k, sample.views, design_sigma);
+      const ViewStats stats(pixels, members, k, sample.views, design_sigma,
+                            options.leave_out_colour_fringes);
       squared += HeldOutAtBestStrength(pixels, members, stats, k, solve.eta, grid);
     }
     const double rms = Rms(squared, observations);

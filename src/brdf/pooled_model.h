@@ -73,6 +73,11 @@ struct PooledOptions {
   // material's relief (on, a brass card's raised border got groups of its own, which explained
   // its tilted pixels as flat: normals over the relief 1.26 -> 2.50 degrees).
   bool search_past_merges = true;
+  // Whether each centre leaves out the observations whose colour departs from their neighbours'
+  // at the same view (colour_outliers.h: fringes at ink edges). Off: the normal search's
+  // reference, whose observations are taken as flat, so that a tilted pixel's colour (a glossy
+  // ink's highlight caught or missed) is data to judge normals by, not a fringe.
+  bool leave_out_colour_fringes = true;
   void Check() const;  // throws UserError
 };
 
