@@ -1,6 +1,6 @@
 // SIMD lanes for kernels that do the same small computation for many pixels at once: one value
-// per lane in a 64-byte GCC/Clang vector (8 doubles or 16 floats, AVX-512 registers; the compiler
-// splits them into two or four narrower registers on machines without it). Arithmetic, compares
+// per lane in a GCC/Clang vector as wide as the target's widest register (kLaneBytes: 64 bytes,
+// 8 doubles or 16 floats, with AVX-512; 32 with AVX; 16 without). Arithmetic, compares
 // and `mask ? a : b` work lane by lane; the functions here are the few the kernels need that the
 // vector types lack, written as plain arithmetic so they compile to vector instructions.
 //
@@ -16,18 +16,31 @@
 
 namespace acq {
 
+// Vectors wider than the target's registers are split by GCC's generic lowering, which on AVX2
+// scalarised the selects and spilled every half through the stack: 64-byte lanes on an AVX2
+// machine spent 4x as long in Atan2, and the normal search on a 256 x 256 card took 8.0 s
+// against 5.7-6.4 s with 32-byte lanes (docs/reconstruction.md, "Search methods and time").
+// Results do not depend on the width: each lane is its own pixel or view.
+#if defined(__AVX512F__)
+inline constexpr int kLaneBytes = 64;
+#elif defined(__AVX__)
+inline constexpr int kLaneBytes = 32;
+#else
+inline constexpr int kLaneBytes = 16;
+#endif
+
 template <class T>
 struct LaneTraits;
 template <>
 struct LaneTraits<double> {
-  typedef double Value __attribute__((vector_size(64)));
-  typedef std::int64_t Mask __attribute__((vector_size(64)));
+  typedef double Value __attribute__((vector_size(kLaneBytes)));
+  typedef std::int64_t Mask __attribute__((vector_size(kLaneBytes)));
   using Bits = std::uint64_t;
 };
 template <>
 struct LaneTraits<float> {
-  typedef float Value __attribute__((vector_size(64)));
-  typedef std::int32_t Mask __attribute__((vector_size(64)));
+  typedef float Value __attribute__((vector_size(kLaneBytes)));
+  typedef std::int32_t Mask __attribute__((vector_size(kLaneBytes)));
   using Bits = std::uint32_t;
 };
 
@@ -36,7 +49,7 @@ using Lanes = typename LaneTraits<T>::Value;
 template <class T>
 using LaneMask = typename LaneTraits<T>::Mask;  // -1 where true, 0 where false
 template <class T>
-constexpr int kLanes = int(64 / sizeof(T));
+constexpr int kLanes = int(kLaneBytes / sizeof(T));
 
 template <class T>
 Lanes<T> Splat(T x) {
@@ -126,7 +139,7 @@ Lanes<T> Log(Lanes<T> x) {
   constexpr Int kBias = sizeof(T) == 8 ? 1023 : 127;
   constexpr Bits kOne = Bits(kBias) << kMantissa;
   constexpr Bits kMantissaMask = (Bits(1) << kMantissa) - 1;
-  typedef Bits BitLanes __attribute__((vector_size(64)));
+  typedef Bits BitLanes __attribute__((vector_size(kLaneBytes)));
   BitLanes bits;
   std::memcpy(&bits, &x, sizeof bits);
   LaneMask<T> e = LaneMask<T>((bits >> kMantissa) & kExponentMask) - kBias;
