@@ -28,6 +28,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <map>
 #include <numeric>
 #include <sstream>
@@ -771,9 +772,11 @@ class ScriptedChannel : public StatusChannel {
   bool aborted_ = false;
 };
 
-// A replay plan of the shared recorded session into `dir`/session.
-Plan ReplayPlan(const std::string& dir) {
+// A replay plan of the shared recorded session into `dir`/session; `edit` changes its text.
+Plan ReplayPlan(
+    const std::string& dir, const std::function<void(std::string*)>& edit = [](std::string*) {}) {
   std::string text = ReadText(WholeDir() + "/plan.yaml");
+  edit(&text);
   text.replace(text.find("backend: sim"), 12, "backend: replay");
   text.replace(text.find("output: session"), 15,
                "output: session\nreplay: " + WholeDir() + "/session");
@@ -783,6 +786,26 @@ Plan ReplayPlan(const std::string& dir) {
 }
 
 }  // namespace
+
+// A replay asks for the recorded frames in their order, at their settings: a plan that asks for
+// others (here another HDR bracket) is refused when it is loaded, naming the setting, not at the
+// first frame that differs after calibrating on those before it (examples/plan-replay.yaml kept
+// a fixed bracket for two days after examples/plan-sim.yaml took the automatic one).
+TEST_CASE("replay: a plan asking for other frames than were recorded is refused at load",
+          "[integration]") {
+  if (!fs::exists(WholeDir() + "/session/report.json")) {
+    const std::string socket = "/tmp/acqd-test-" + std::to_string(getpid()) + ".sock";
+    REQUIRE(Wait(StartAcqd(WritePlan(WholeDir(), SharedBasis()), socket)) == 0);
+  }
+  const test::TempDir tmp;
+  CHECK_NOTHROW(ReplayPlan(tmp / "same"));
+  const auto other_bracket = [](std::string* text) {
+    text->replace(text->find("bracket_us: [2000, 16000]"), 25, "bracket_us: [2000, 32000]");
+  };
+  CHECK_THROWS_WITH(ReplayPlan(tmp / "other", other_bracket),
+                    Catch::Contains("asks for other frames") &&
+                        Catch::Contains("camera.hdr: 2000 16000 -> 2000 32000"));
+}
 
 // The sequencer in this process (issue 21): the session library's RunSession with the replay
 // gantry and camera (the shared recorded session's frames and arm angles), a camera lost mid-way,

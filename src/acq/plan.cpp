@@ -13,6 +13,7 @@
 #include <optional>
 #include <set>
 
+#include "acq/plan_record.h"
 #include "brdf/basis_file.h"
 #include "brdf/direction_optimizer.h"
 #include "core/angles.h"
@@ -658,6 +659,24 @@ void ReconstructionSpec::Check() const {
                     "it weighs how near the sample's normal a pixel's normal stays; 0 for none");
 }
 
+namespace {
+
+// A replay serves the recorded frames in the order they were taken, and checks each against the
+// settings asked for: a plan that asks for other frames (another HDR bracket, other directions)
+// would fail at the first frame that differs, after calibrating on the frames before it. Checked
+// at load instead, with every difference listed.
+void CheckReplayMatches(const Plan& plan, const Section& top) {
+  const std::vector<std::string> differences = ReplayDifferences(plan, plan.replay_session);
+  if (differences.empty()) return;
+  throw UserError(
+      top.Where("replay"),
+      "this plan asks for other frames than " + plan.replay_session + " was captured with, in " +
+          ListedChanges(differences),
+      "replay with the recorded session's plan settings (" + plan.replay_session + "/plan.yaml)");
+}
+
+}  // namespace
+
 Plan LoadPlan(const std::string& path, const std::string& relative_to) {
   const YAML::Node root = LoadPlanDocument(path);
   Plan plan;
@@ -687,6 +706,7 @@ Plan LoadPlan(const std::string& path, const std::string& relative_to) {
   plan.sim = ReadSim(root, top, base, plan.backend);
   plan.reconstruction = ReadReconstruction(top, base);
   if (optimizer) optimizer->At("n", [&] { OptimizePlanDirections(&plan); });
+  if (plan.backend == Backend::kReplay) CheckReplayMatches(plan, top);
   return plan;
 }
 

@@ -237,6 +237,25 @@ std::vector<std::string> CaptureDifferences(const Plan& plan, const std::string&
   return Compare(PlanSettings(plan), path).capture;
 }
 
+std::string ListedChanges(const std::vector<std::string>& changes, const std::string& which) {
+  constexpr std::size_t kListed = 12;
+  std::string s =
+      std::to_string(changes.size()) + " setting" + (changes.size() > 1 ? "s" : "") + which + ":";
+  for (std::size_t i = 0; i < changes.size() && i < kListed; ++i) s += "\n  " + changes[i];
+  return s + (changes.size() > kListed ? "\n  ..." : "") + "\n";
+}
+
+std::vector<std::string> ReplayDifferences(const Plan& plan, const std::string& session) {
+  const auto asks_for_frames = [](const std::string& change) {
+    const std::string key = change.substr(0, change.find(':'));
+    return key != "backend" && key != "replay" && key.rfind("sim.", 0) != 0;
+  };
+  std::vector<std::string> differences;
+  for (const std::string& change : CaptureDifferences(plan, session))
+    if (asks_for_frames(change)) differences.push_back(change);
+  return differences;
+}
+
 PlanCheck RecordOrCheckPlan(const Plan& plan, const std::string& session, SessionCatalog& catalog) {
   const std::string path = session + "/" + kSettingsFile;
   const std::vector<PlanSetting> now = PlanSettings(plan);
@@ -253,15 +272,10 @@ PlanCheck RecordOrCheckPlan(const Plan& plan, const std::string& session, Sessio
     return check;
   }
   const SettingsComparison c = Compare(now, path);
-  const std::size_t differences = c.capture.size();
-  if (differences > 0) {
-    std::string listed;
-    for (std::size_t i = 0; i < differences && i < 12; ++i) listed += "\n  " + c.capture[i];
+  if (!c.capture.empty()) {
     throw UserError(plan.path,
                     "differs from the plan session " + session + " was captured with, in " +
-                        std::to_string(differences) + " setting" + (differences > 1 ? "s" : "") +
-                        " that change what is captured:" + listed +
-                        (differences > 12 ? "\n  ..." : "") + "\n",
+                        ListedChanges(c.capture, " that change what is captured"),
                     "resume with the session's own plan (" + session +
                         "/plan.yaml), or give this plan a new output directory");
   }

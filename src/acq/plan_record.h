@@ -43,6 +43,15 @@ std::vector<std::string> PlanRecordFiles();
 // none when the session has no record. Reads and writes nothing else.
 std::vector<std::string> CaptureDifferences(const Plan& plan, const std::string& session);
 
+// "N settings<which>:" and the changes, a line each (the first 12), for an error message.
+std::string ListedChanges(const std::vector<std::string>& changes, const std::string& which = "");
+
+// For a replay of `session`: the capture settings of `plan` that differ from those the session
+// recorded and that decide which frames are asked for, in which order, at which settings (all
+// but the backend, the replayed session and the simulated world); none when the session has no
+// record.
+std::vector<std::string> ReplayDifferences(const Plan& plan, const std::string& session);
+
 // Records the plan into `session` at its first run, or checks it against the recorded one.
 // Throws UserError listing every capture setting that differs.
 PlanCheck RecordOrCheckPlan(const Plan& plan, const std::string& session, SessionCatalog& catalog);
