@@ -772,6 +772,13 @@ class ScriptedChannel : public StatusChannel {
   bool aborted_ = false;
 };
 
+// The shared recorded session, recorded here when the test that records it did not run.
+void RecordSharedSessionIfMissing() {
+  if (fs::exists(WholeDir() + "/session/report.json")) return;
+  const std::string socket = "/tmp/acqd-test-" + std::to_string(getpid()) + ".sock";
+  REQUIRE(Wait(StartAcqd(WritePlan(WholeDir(), SharedBasis()), socket)) == 0);
+}
+
 // A replay plan of the shared recorded session into `dir`/session; `edit` changes its text.
 Plan ReplayPlan(
     const std::string& dir, const std::function<void(std::string*)>& edit = [](std::string*) {}) {
@@ -793,10 +800,7 @@ Plan ReplayPlan(
 // a fixed bracket for two days after examples/plan-sim.yaml took the automatic one).
 TEST_CASE("replay: a plan asking for other frames than were recorded is refused at load",
           "[integration]") {
-  if (!fs::exists(WholeDir() + "/session/report.json")) {
-    const std::string socket = "/tmp/acqd-test-" + std::to_string(getpid()) + ".sock";
-    REQUIRE(Wait(StartAcqd(WritePlan(WholeDir(), SharedBasis()), socket)) == 0);
-  }
+  RecordSharedSessionIfMissing();
   const test::TempDir tmp;
   CHECK_NOTHROW(ReplayPlan(tmp / "same"));
   const auto other_bracket = [](std::string* text) {
@@ -812,10 +816,7 @@ TEST_CASE("replay: a plan asking for other frames than were recorded is refused 
 // an operator's abort, and the resume that finishes the session with the map the recording gave.
 TEST_CASE("session in-process: a lost camera and an abort, each resumed, give the recorded map",
           "[integration]") {
-  if (!fs::exists(WholeDir() + "/session/report.json")) {
-    const std::string socket = "/tmp/acqd-test-" + std::to_string(getpid()) + ".sock";
-    REQUIRE(Wait(StartAcqd(WritePlan(WholeDir(), SharedBasis()), socket)) == 0);
-  }
+  RecordSharedSessionIfMissing();
   const test::TempDir tmp;
   const Plan plan = ReplayPlan(tmp / "replay");
   const int frames = int(SessionCatalog(WholeDir() + "/session").Frames().size());
