@@ -3,6 +3,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <map>
 #include <set>
 #include <sstream>
@@ -203,15 +204,23 @@ struct SettingsComparison {
   std::vector<std::string> processing;  // the same for processing settings
 };
 
-SettingsComparison Compare(const std::vector<PlanSetting>& now, const std::string& path) {
+bool EverySetting(const std::string&) {
+  return true;
+}
+
+// Settings whose key `compared` rejects are left out on both sides.
+SettingsComparison Compare(const std::vector<PlanSetting>& now, const std::string& path,
+                           const std::function<bool(const std::string&)>& compared = EverySetting) {
   std::map<std::string, PlanSetting> recorded;
-  for (const PlanSetting& s : ReadSettings(path)) recorded[s.key] = s;
+  for (const PlanSetting& s : ReadSettings(path))
+    if (compared(s.key)) recorded[s.key] = s;
   auto change = [](const std::string& key, const std::string& was, const std::string& is) {
     return key + ": " + (was.empty() ? "(none)" : was) + " -> " + (is.empty() ? "(none)" : is);
   };
   SettingsComparison c;
   std::set<std::string> seen;
   for (const PlanSetting& s : now) {
+    if (!compared(s.key)) continue;
     seen.insert(s.key);
     const auto r = recorded.find(s.key);
     const std::string was = r == recorded.end() ? "" : r->second.value;
@@ -225,6 +234,16 @@ SettingsComparison Compare(const std::vector<PlanSetting>& now, const std::strin
   return c;
 }
 
+// The capture settings of `plan` whose keys `compared` accepts that differ from those `session`
+// recorded; none when it has no record.
+std::vector<std::string> CaptureDifferencesIn(
+    const Plan& plan, const std::string& session,
+    const std::function<bool(const std::string&)>& compared) {
+  const std::string path = session + "/" + kSettingsFile;
+  if (!fs::exists(path)) return {};
+  return Compare(PlanSettings(plan), path, compared).capture;
+}
+
 }  // namespace
 
 std::vector<std::string> PlanRecordFiles() {
@@ -232,9 +251,7 @@ std::vector<std::string> PlanRecordFiles() {
 }
 
 std::vector<std::string> CaptureDifferences(const Plan& plan, const std::string& session) {
-  const std::string path = session + "/" + kSettingsFile;
-  if (!fs::exists(path)) return {};
-  return Compare(PlanSettings(plan), path).capture;
+  return CaptureDifferencesIn(plan, session, EverySetting);
 }
 
 std::string ListedChanges(const std::vector<std::string>& changes, const std::string& which) {
@@ -246,14 +263,10 @@ std::string ListedChanges(const std::vector<std::string>& changes, const std::st
 }
 
 std::vector<std::string> ReplayDifferences(const Plan& plan, const std::string& session) {
-  const auto asks_for_frames = [](const std::string& change) {
-    const std::string key = change.substr(0, change.find(':'));
+  const auto asks_for_frames = [](const std::string& key) {
     return key != "backend" && key != "replay" && key.rfind("sim.", 0) != 0;
   };
-  std::vector<std::string> differences;
-  for (const std::string& change : CaptureDifferences(plan, session))
-    if (asks_for_frames(change)) differences.push_back(change);
-  return differences;
+  return CaptureDifferencesIn(plan, session, asks_for_frames);
 }
 
 PlanCheck RecordOrCheckPlan(const Plan& plan, const std::string& session, SessionCatalog& catalog) {
