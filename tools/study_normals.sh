@@ -2,8 +2,8 @@
 # The per-pixel normal search's study (issue 19; docs/reconstruction.md, "Normals"): the built-in
 # embossed card (4 held-out materials, 128 x 128, 4 degree field of view, the seed paper's 20
 # directions), reconstructed independently without the search ("none"), with the search scored by
-# each pixel's own fit ("fit", the first criterion) and by its material group's centre ("centre",
-# the default), over relief slopes and noise levels; single materials (a glossy brass, a matte
+# each pixel's own fit ("fit", the first criterion), by its material group's centre alone
+# ("one-centre") and by its groups' centres or two of them mixed ("centre", the default), over relief slopes and noise levels; single materials (a glossy brass, a matte
 # white paint, a dark fabric, a mirror-like chrome) with a raised border; and the card through
 # the pooled reconstruction. Prints one CSV line per run and charts normal error, false tilt and
 # map error (tools/chart_normals.py). Then the search methods' price: the embossed card at
@@ -23,9 +23,13 @@ normal_error() { sed -n 's/^score: normals: median angular error \([0-9.na]*\) d
 false_tilt() { sed -n 's/.*median false tilt \([0-9.na]*\) deg.*/\1/p'; }
 run() {  # CASE VALUE ARGS...: one reconstruction per search
   local case=$1 value=$2; shift 2
-  for search in none fit centre; do
+  for search in none fit one-centre centre; do
     local flag=()
-    [ "$search" != none ] && flag=(--normals --normals-criterion "$search")
+    case $search in
+      none) ;;
+      one-centre) flag=(--normals --normals-criterion centre --normals-single-centre) ;;
+      *) flag=(--normals --normals-criterion "$search") ;;
+    esac
     local start=$(date +%s%N)
     local log
     log=$($acq reconstruct synthetic --basis "$basis" --directions data/directions/seed_directions_20.tsv \

@@ -111,7 +111,8 @@ struct ReconstructionSpec {  // reconstruction:
   int groups = 0;  // PooledOptions::groups (0: chosen by held-out views)
   double design_sigma_deg = kDefaultDesignSigmaDeg;  // PooledOptions::design_sigma_deg
   bool normals = false;  // reconstruction.normals: each pixel's normal estimated (normal_search.h)
-  double normals_prior = kDefaultNormalsPrior;  // NormalSearchOptions::prior
+  double normals_prior = kDefaultNormalsPrior;             // NormalSearchOptions::prior
+  bool normals_mixed_pixels = kDefaultNormalsMixedPixels;  // NormalSearchOptions::mixed_pixels
   void Check() const;
 };
 

@@ -194,6 +194,9 @@ std::vector<PlanSetting> PlanSettings(const Plan& plan) {
   if (plan.reconstruction.normals) s.Processing("reconstruction.normals", "true");
   if (plan.reconstruction.normals_prior != kDefaultNormalsPrior)
     s.Processing("reconstruction.normals_prior", Number(plan.reconstruction.normals_prior));
+  if (plan.reconstruction.normals_mixed_pixels != kDefaultNormalsMixedPixels)
+    s.Processing("reconstruction.normals_mixed_pixels",
+                 plan.reconstruction.normals_mixed_pixels ? "true" : "false");
   return s.out;
 }
 

@@ -26,6 +26,9 @@ struct Candidate {
   // Criterion kCentre: the group whose centre scored it, and that centre's RMS misfit.
   int group = -1;
   double misfit = std::numeric_limits<double>::infinity();
+  // A mixed pixel (NormalSearchOptions::mixed_pixels): the other group whose centre's BRDF is
+  // mixed with the first's (the first's share at least half); -1 for one centre.
+  int second = -1;
 };
 
 // A view that a candidate facet turns away from (light behind it, or the facet hidden from the
@@ -63,22 +66,30 @@ struct DarkViews {
       }
     }
   }
-  // `misfit` (RMS over 3 x `views` values) of a candidate facet `n` of `pixel`, with the views
-  // it turns away from added.
-  void Charge(const Eigen::Vector3f& n, const PixelObservations& obs, int pixel, double* misfit,
-              int* views) const {
+  // The views a candidate facet `n` of `pixel` turns away from: their summed cost and count.
+  struct TurnedAway {
+    double cost = 0;
+    int views = 0;
+  };
+  TurnedAway Of(const Eigen::Vector3f& n, const PixelObservations& obs, int pixel) const {
     const Eigen::Matrix3f r = FacetFromSample(n);
     const double* pixel_cost = &cost[std::size_t(pixel - first) * obs.views];
-    double sum = *misfit * *misfit * 3.0 * *views;
-    int count = *views;
+    TurnedAway t;
     for (int v = 0; v < obs.views; ++v) {
       const std::size_t i = obs.At(pixel, v);
       if (std::isnan(pixel_cost[v])) continue;
       if ((r * obs.light[i]).z() > 0 && (r * obs.camera[i]).z() > 0) continue;
-      sum += pixel_cost[v];
-      ++count;
+      t.cost += pixel_cost[v];
+      ++t.views;
     }
-    if (count > *views) *misfit = std::sqrt(sum / (3.0 * count)), *views = count;
+    return t;
+  }
+  // `misfit` (RMS over 3 x `views` values) with the views turned away added.
+  static void Charge(const TurnedAway& t, double* misfit, int* views) {
+    if (t.views == 0) return;
+    const double sum = *misfit * *misfit * 3.0 * *views + t.cost;
+    *views += t.views;
+    *misfit = std::sqrt(sum / (3.0 * *views));
   }
 };
 
@@ -118,8 +129,8 @@ void ScoreCandidates(const BasisView& basis, const PixelObservations& obs, int f
     // Not valid (too few views, too poorly conditioned, not finite): no score.
     if (!solution.valid[i]) continue;
     cand.misfit = solution.residual[i];
-    dark.Charge(NormalOfSlope(cand.slope.x(), cand.slope.y()), obs, first + p, &cand.misfit,
-                &cand.views);
+    DarkViews::Charge(dark.Of(NormalOfSlope(cand.slope.x(), cand.slope.y()), obs, first + p),
+                      &cand.misfit, &cand.views);
     cand.score = cand.misfit + o.prior * double(cand.slope.squaredNorm());
   }
 }
@@ -169,31 +180,56 @@ std::vector<std::vector<int>> NearestGroups(const BasisView& basis, const PixelO
   return nearest;
 }
 
+// The shares of a pair of centres tried for a mixed pixel (NormalSearchOptions::mixed_pixels).
+constexpr std::array<float, 3> kMixedShares = {0.25f, 0.5f, 0.75f};
+
 // One pixel's candidates scored by the best of its groups' centres, coefficients held.
 struct CentreScorer {
+  CentreScorer(const BasisView& basis, const PooledModel& model, RowLookup lookup,
+               const DarkViews& dark)
+      : basis(basis), model(model), lookup(lookup), dark(dark) {
+    CopyCentres();
+  }
   const BasisView& basis;
   const PooledModel& model;
   RowLookup lookup;
   PixelObservations one;
   ViewRows rows;
   std::vector<int> used;  // views usable at the candidate
-  std::vector<double> y;  // their mapped observations less the mean, 3 a view
+  Eigen::ArrayXd y;       // their mapped observations less the mean, 3 a view
   const DarkViews& dark;  // the chunk's views as a facet turned away from them scores them
 
   // The observations in `one`, mapped, with the basis sampled at kc components.
+  // The mapping's logarithms run on Eigen arrays (SIMD lanes): log_cosw and log_ref are what
+  // the mixtures (mixed_pixels) reuse.
   void Prepare(int kc) {
     rows.SampleInLanes(basis, one, 0, kc, lookup);
     used.clear();
-    y.clear();
     for (int v = 0; v < one.views; ++v) {
       const float* rgb = &one.rgb[3 * v];
-      if (!(rows.ok[v] && std::isfinite(rgb[0]) && std::isfinite(rgb[1]) && std::isfinite(rgb[2])))
-        continue;
-      const BasisSample& s = rows.samples[v];
-      used.push_back(v);
-      for (int ch = 0; ch < 3; ++ch) y.push_back(MapBrdf(rgb[ch], s.cos_weight, s.ref) - s.mean);
+      if (rows.ok[v] && std::isfinite(rgb[0]) && std::isfinite(rgb[1]) && std::isfinite(rgb[2]))
+        used.push_back(v);
     }
+    const Eigen::Index n = Eigen::Index(3 * used.size());
+    log_cosw.resize(n);  // the values first, their logarithms below
+    log_ref.resize(n);
+    y.resize(n);
+    for (std::size_t i = 0; i < used.size(); ++i) {
+      const BasisSample& s = rows.samples[used[i]];
+      for (int ch = 0; ch < 3; ++ch) {
+        const Eigen::Index j = Eigen::Index(3 * i + ch);
+        log_cosw[j] = std::max(double(one.rgb[3 * used[i] + ch]), 0.0) * s.cos_weight;
+        log_ref[j] = s.ref;
+        y[j] = s.mean;
+      }
+    }
+    // MapBrdf, less the mean: ln((rho cos_weight + eps) / (rho_ref + eps)) - mu.
+    log_cosw = (log_cosw + kLogMappingEps).log();
+    log_ref = (log_ref + kLogMappingEps).log();
+    y = log_cosw - log_ref - y;
   }
+  Eigen::ArrayXd log_cosw;  // per used value: ln(rho cos_weight + eps) of the observation
+  Eigen::ArrayXd log_ref;   // ln(rho_ref + eps) of its bin
 
   // The RMS log-space misfit of group g's centre (its k_c components; zero past them).
   double Misfit(int g) {
@@ -218,6 +254,33 @@ struct CentreScorer {
   std::vector<Eigen::MatrixXd> centres;
   Eigen::MatrixXd predicted;  // views x 3
 
+  // A mixed pixel's terms are single precision: their exp and log run in SIMD lanes twice as
+  // wide as double's, which keeps the pairs' price to about a tenth of the search's; the misfits
+  // they compare differ by far more than float's rounding.
+  Eigen::ArrayXf observed;  // log_cosw
+  Eigen::ArrayXf mapped;    // KeepBrdf's: the centre's ln(rho cos_weight + eps)
+  std::array<Eigen::ArrayXf, kCentreGroups> brdf_cosw;  // per slot of the pixel's groups
+
+  // The cos-weighted BRDF at the used views (UnmapBrdf times the cos weight) of the centre
+  // whose prediction `predicted` holds (Misfit's last), into slot `slot`.
+  void KeepBrdf(int slot) {
+    mapped.resize(y.size());  // no allocation once the size is the views'
+    for (std::size_t i = 0; i < used.size(); ++i)
+      for (int ch = 0; ch < 3; ++ch)
+        mapped[Eigen::Index(3 * i + ch)] =
+            float(predicted(used[i], ch) + rows.samples[used[i]].mean + log_ref[3 * i + ch]);
+    brdf_cosw[slot].resize(mapped.size());
+    brdf_cosw[slot] = (mapped.exp() - float(kLogMappingEps)).max(0.0f);
+  }
+  // The RMS log-space misfit of slots a and b mixed, `share` of a's (MapBrdf of the mixture);
+  // one expression, evaluated without a temporary.
+  double MixedMisfit(int a, int b, float share) const {
+    return std::sqrt(
+        double(((share * brdf_cosw[a] + (1 - share) * brdf_cosw[b] + float(kLogMappingEps)).log() -
+                observed)
+                   .square()
+                   .mean()));
+  }
   void Score(const PixelObservations& obs, int pixel, const std::vector<int>& groups,
              const NormalSearchOptions& o, int min_views, std::vector<Candidate>* candidates) {
     one.Resize(1, obs.views);
@@ -228,13 +291,27 @@ struct CentreScorer {
       ToFacetFrame(n, std::max(o.min_cos, o.score_min_cos), obs, pixel, &one, 0);
       Prepare(kc);
       if (int(used.size()) < min_views) continue;
-      for (int g : groups) {
-        double misfit = Misfit(g);
+      const DarkViews::TurnedAway turned = dark.Of(n, obs, pixel);
+      const auto consider = [&](double misfit, int g, int second) {
         int views = int(used.size());
-        dark.Charge(n, obs, pixel, &misfit, &views);
+        DarkViews::Charge(turned, &misfit, &views);
         const double score = misfit + o.prior * double(cand.slope.squaredNorm());
-        if (score < cand.score) cand = {cand.slope, score, views, g, misfit};
+        if (score < cand.score) cand = {cand.slope, score, views, g, misfit, second};
+      };
+      const bool mixtures = o.mixed_pixels && groups.size() >= 2;
+      if (mixtures) observed = log_cosw.cast<float>();
+      for (std::size_t a = 0; a < groups.size(); ++a) {
+        consider(Misfit(groups[a]), groups[a], -1);
+        if (mixtures) KeepBrdf(int(a));
       }
+      if (!mixtures) continue;
+      for (std::size_t a = 0; a < groups.size(); ++a)
+        for (std::size_t b = a + 1; b < groups.size(); ++b)
+          for (float share : kMixedShares) {
+            const bool a_first = share >= 0.5f;
+            consider(MixedMisfit(int(a), int(b), share), a_first ? groups[a] : groups[b],
+                     a_first ? groups[b] : groups[a]);
+          }
     }
   }
 };
@@ -248,8 +325,7 @@ void ScoreAgainstCentres(const BasisView& basis, const PixelObservations& obs, i
   *scored = lists;
 #pragma omp parallel
   {
-    CentreScorer scorer{basis, model, solve.lookup, {}, {}, {}, {}, dark, {}, {}};
-    scorer.CopyCentres();
+    CentreScorer scorer(basis, model, solve.lookup, dark);
 #pragma omp for schedule(dynamic, 16)
     for (int p = 0; p < count; ++p)
       scorer.Score(obs, first + p, groups[p], o, solve.MinObservations(), &(*scored)[p]);
@@ -418,7 +494,10 @@ ChunkSearch SearchChunk(const BasisView& basis, const PixelObservations& obs, in
       }
       keep_best(p, scored[p]);
       // The coarse grid chose the group (jointly with the tilt); the refinements keep it.
-      if (level == 0 && reference && c.best[p].group >= 0) groups[p] = {c.best[p].group};
+      if (level == 0 && reference && c.best[p].group >= 0) {
+        groups[p] = {c.best[p].group};
+        if (c.best[p].second >= 0) groups[p].push_back(c.best[p].second);
+      }
     }
   }
   if (!quadratic || o.Levels() == 0) return c;

@@ -40,8 +40,9 @@ enum class NormalCriterion {
   // The misfit of the pixel's material group's centre (pooled_model.h), coefficients held: a
   // candidate normal cannot bend them, so the normal must place the lobe where the material,
   // known from all its pixels, has it. The group: of the 3 nearest to the pixel's flat solve,
-  // the one whose centre fits best at the candidate. A pixel no centre explains (misfit above
-  // the group's limit at its best normal) keeps the sample's normal (kAssumed).
+  // the one whose centre fits best at the candidate, or two of them mixed
+  // (NormalSearchOptions::mixed_pixels). A pixel no centre explains (misfit above the group's
+  // limit at its best normal) keeps the sample's normal (kAssumed).
   kCentre,
 };
 const char* NormalCriterionName(NormalCriterion criterion);  // "fit", "held-out", "centre"
@@ -56,6 +57,7 @@ std::optional<NormalSearchMethod> ParseNormalSearchMethod(const std::string& nam
 // by hundredths. Lower priors trade normals over the relief for validation views
 // (docs/reconstruction.md, "Normals").
 inline constexpr double kDefaultNormalsPrior = 0.5;
+inline constexpr bool kDefaultNormalsMixedPixels = true;  // NormalSearchOptions::mixed_pixels
 
 struct NormalSearchOptions {
   bool enabled = false;
@@ -97,6 +99,12 @@ struct NormalSearchOptions {
   // fabric), whose solve then moves far: a degree of tilt rescales a grazing view's value by
   // 20%.
   double evidence = 1;
+  // Criterion kCentre: a pixel may also be explained by two of its groups' centres mixed (BRDFs
+  // mixed linearly, shares 1/4, 1/2, 3/4), at every candidate normal and the sample's: a pixel
+  // at an ink edge is then judged by the mixture, not by one ink whose lobe a tilt moves.
+  // Measured (docs/reconstruction.md, "Mixed pixels"): through acqd it takes the validation
+  // views' wild renders away and improves the normals over the relief; hence on.
+  bool mixed_pixels = kDefaultNormalsMixedPixels;
   int chunk_pixels = 2048;  // pixels per batch of candidates (memory: chunk x 25 x views)
   void Check(const BasisView& basis) const;  // throws UserError
 };

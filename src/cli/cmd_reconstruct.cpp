@@ -171,8 +171,9 @@ int ReconstructSynthetic(const Argv& argv) {
                                   "normals-levels",
                                   "normals-coarse-reach"};
   valued.insert(kGeometryOptions.begin(), kGeometryOptions.end());
-  const Args args("acq reconstruct synthetic", argv, valued,
-                  {"ignore-near-field", "truth-tables", "score", "quiet", "normals"});
+  const Args args(
+      "acq reconstruct synthetic", argv, valued,
+      {"ignore-near-field", "truth-tables", "score", "quiet", "normals", "normals-single-centre"});
   const std::string basis_path = args.Required("basis"), out = args.Required("o");
   // The options that are numbers, checked before any file is read.
   int w = 0, h = 0;
@@ -234,6 +235,7 @@ int ReconstructSynthetic(const Argv& argv) {
       args.GetDouble("design-sigma-deg", r.pooled.design_sigma_deg, 0, kMaxDesignSigmaDeg);
   r.pooled.seed = o.seed;
   r.normals.enabled = args.Has("normals");
+  r.normals.mixed_pixels = !args.Has("normals-single-centre");
   r.normals.max_tilt_deg = args.GetDouble("normals-max-tilt-deg", r.normals.max_tilt_deg, 1, 59);
   r.normals.prior = args.GetDouble("normals-prior", r.normals.prior, 0, 1e6);
   r.normals.components = args.GetInt("normals-k", r.normals.components, 1, 64);

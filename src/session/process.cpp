@@ -166,6 +166,7 @@ ReconstructionReport ReconstructMap(const Plan& plan, const MappedBasis& mapped,
   options.pooled.design_sigma_deg = plan.reconstruction.design_sigma_deg;
   options.normals.enabled = plan.reconstruction.normals;
   options.normals.prior = plan.reconstruction.normals_prior;
+  options.normals.mixed_pixels = plan.reconstruction.normals_mixed_pixels;
   options.progress = false;
   SvbrdfMapInfo info;
   info.basis = plan.reconstruction.basis_file;
