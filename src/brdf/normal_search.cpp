@@ -183,7 +183,8 @@ std::vector<std::vector<int>> NearestGroups(const BasisView& basis, const PixelO
 // The shares of a pair of centres tried for a mixed pixel (NormalSearchOptions::mixed_pixels).
 constexpr std::array<float, 3> kMixedShares = {0.25f, 0.5f, 0.75f};
 
-// One pixel's candidates scored by the best of its groups' centres, coefficients held.
+// One pixel's candidates scored by the best of its groups' centres (or two of them mixed),
+// coefficients held.
 struct CentreScorer {
   CentreScorer(const BasisView& basis, const PooledModel& model, RowLookup lookup,
                const DarkViews& dark)
@@ -255,7 +256,7 @@ struct CentreScorer {
   Eigen::MatrixXd predicted;  // views x 3
 
   // A mixed pixel's terms are single precision: their exp and log run in SIMD lanes twice as
-  // wide as double's, which keeps the pairs' price to about a tenth of the search's; the misfits
+  // wide as double's, which keeps the pairs' price to about 13% of the search's; the misfits
   // they compare differ by far more than float's rounding.
   Eigen::ArrayXf observed;  // log_cosw
   Eigen::ArrayXf mapped;    // KeepBrdf's: the centre's ln(rho cos_weight + eps)
