@@ -33,15 +33,8 @@ std::array<double, 3> Brdf(const RenderScene& scene, const Eigen::Vector2d& poin
         for (double& v : f) v = std::max(v, 0.0);
         return f;
       }
-      // A tilted facet (relief): its BRDF in its own frame, times n.l / l.z, since the caller
-      // lights the sample plane (core/facet_frame.h); a light the facet turns away from, or a
-      // view it hides, gives nothing.
-      const Eigen::Matrix3d r = FacetFromSample(scene.card.NormalAt(point)).cast<double>();
-      const DirectionPair facet{(r * d.in).normalized(), (r * d.out).normalized()};
-      if (facet.in.z() <= 0 || facet.out.z() <= 0) return {0, 0, 0};
-      f = material.Value(facet);
-      for (double& v : f) v = std::max(v, 0.0) * facet.in.z() / d.in.z();
-      return f;
+      // A tilted facet (relief): dark where it turns away from the light or the camera.
+      return material.ValueOnFacet(scene.card.NormalAt(point), d);
     }
     case RenderScene::Kind::kChessboard: {
       const double s = scene.board.spacing_mm;

@@ -1,5 +1,6 @@
 #include "sim/synthetic_svbrdf.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <random>
@@ -80,6 +81,16 @@ std::array<double, 3> GroundTruth::Value(const DirectionPair& d) const {
   return network->Evaluate(RusinkiewiczFromDirections(d.in, d.out));
 }
 
+std::array<double, 3> GroundTruth::ValueOnFacet(const Eigen::Vector3f& n,
+                                                const DirectionPair& d) const {
+  const Eigen::Matrix3d r = FacetFromSample(n).cast<double>();
+  const DirectionPair facet{(r * d.in).normalized(), (r * d.out).normalized()};
+  if (facet.in.z() <= 0 || facet.out.z() <= 0) return {0, 0, 0};
+  std::array<double, 3> f = Value(facet);
+  for (double& v : f) v = std::max(v, 0.0) * facet.in.z() / d.in.z();
+  return f;
+}
+
 namespace {
 
 // Observations of count pixels, the p-th being scene pixel pixel_of(p).
@@ -107,22 +118,15 @@ PixelObservations Observe(const SyntheticSvbrdf& scene, const std::vector<Ground
       obs.light[i] = label.in.cast<float>();
       obs.camera[i] = label.out.cast<float>();
       if (!AboveHorizon(truth)) continue;  // stays NaN: missing
-      // A tilted facet: its BRDF in its own frame, measured as if the sample were flat (the
-      // irradiance divided by the sample's cosine, not the facet's); a view the facet turns
-      // away from, or a light it shadows, is missing.
-      DirectionPair facet = truth;
-      double cos_ratio = 1;
-      if (!scene.normal.empty()) {
-        const Eigen::Vector3f& n = scene.normal[pixel];
-        const Eigen::Matrix3d r = FacetFromSample(n).cast<double>();
-        facet = {(r * truth.in).normalized(), (r * truth.out).normalized()};
-        if (!AboveHorizon(facet)) continue;
-        cos_ratio = facet.in.z() / truth.in.z();
-      }
-      const auto rgb = materials[scene.label[pixel]].Value(facet);
+      // A tilted facet (relief) turned away from the light or the camera is dark, as the
+      // renderer makes it (GroundTruth::ValueOnFacet).
+      const GroundTruth& material = materials[scene.label[pixel]];
+      const std::array<double, 3> rgb = scene.normal.empty()
+                                            ? material.Value(truth)
+                                            : material.ValueOnFacet(scene.normal[pixel], truth);
       for (int c = 0; c < 3; ++c)
         obs.rgb[3 * i + c] =
-            float(std::max(rgb[c], 0.0) * cos_ratio * (1.0 + options.noise_sigma * noise(rng)));
+            float(std::max(rgb[c], 0.0) * (1.0 + options.noise_sigma * noise(rng)));
     }
   }
   return obs;

@@ -50,6 +50,12 @@ struct GroundTruth {
   // table are then unused.
   std::vector<std::pair<const GroundTruth*, double>> mix;
   std::array<double, 3> Value(const DirectionPair& d) const;
+  // Its value at a tilted facet of normal n (sample frame) under sample-frame directions d,
+  // measured as if the sample were flat: the BRDF in the facet's frame times n.l / l.z
+  // (core/facet_frame.h), a fit's slightly negative value taken as none. A light the facet turns
+  // away from, or a camera it hides from, gives zero: the facet is dark there (what a camera
+  // records), not unobserved. The one rule the renderer and the synthetic observations share.
+  std::array<double, 3> ValueOnFacet(const Eigen::Vector3f& n, const DirectionPair& d) const;
 };
 
 struct ObservationOptions {

@@ -1119,17 +1119,19 @@ TEST_CASE("the simulated camera renders a tilted facet as the synthetic observat
       const double irradiance =
           light.intensity * to_light.normalized().z() / to_light.squaredNorm();
       const float* measured = &obs.rgb[3 * obs.At(p, v)];
-      if (std::isnan(measured[0])) {  // the facet hides the view or shadows the light
-        CHECK(radiance[0] == 0);
-        ++dark;
-        continue;
-      }
       for (int c = 0; c < 3; ++c)
         CHECK(radiance[c] / irradiance == Approx(measured[c]).epsilon(1e-4).margin(1e-7));
+      // The facet hides the view or shadows the light: dark in both, not missing.
+      const Eigen::Matrix3f r = FacetFromSample(scene.normal[std::size_t(p)]);
+      const bool turned_away =
+          (r * obs.light[obs.At(p, v)]).z() <= 0 || (r * obs.camera[obs.At(p, v)]).z() <= 0;
+      if (turned_away) CHECK(measured[0] == 0);
+      dark += turned_away;
       ++compared;
     }
-  CHECK(compared > obs.pixels * obs.views / 2);
-  INFO("dark " << dark);
+  CHECK(compared == obs.pixels * obs.views);
+  // The set's grazing lights (85-89 degrees) fall behind a facet tilted 10 degrees away.
+  CHECK(dark > 0);
 }
 
 TEST_CASE("normals of an embossed glossy card are recovered; flat areas stay flat", "[normals]") {
@@ -1154,6 +1156,7 @@ TEST_CASE("normals of an embossed glossy card are recovered; flat areas stay fla
   const PixelNormals normals =
       EstimateNormals(d.basis.View(), &obs, PerPixel(), search, &reference);
   std::vector<double> relief_error, flat_error, assumed_error;
+  int refused = 0;
   for (std::size_t p = 0; p < scene.label.size(); ++p) {
     const Eigen::Vector3f truth = scene.normal[p];
     REQUIRE(normals.normal[p].allFinite());
@@ -1165,6 +1168,7 @@ TEST_CASE("normals of an embossed glossy card are recovered; flat areas stay fla
       assumed_error.push_back(RadToDeg(tilt));
     }
     if (tilt < DegToRad(0.05)) flat_error.push_back(error);
+    refused += normals.status[p] == NormalStatus::kRefused;
   }
   REQUIRE(relief_error.size() > 100);
   REQUIRE(flat_error.size() > 100);
@@ -1179,6 +1183,10 @@ TEST_CASE("normals of an embossed glossy card are recovered; flat areas stay fla
   CHECK(Median(relief_error) < 2.0);
   CHECK(Median(flat_error) < 0.5);
   CHECK(Median(assumed_error) > 3.0);
+  // Relief inside the cone is not flagged as too steep (no view it faces is seen dark);
+  // measured: none refused. A percent allows for a grazing view's noise.
+  INFO("refused " << refused);
+  CHECK(refused <= int(scene.label.size()) / 100);
 }
 
 // Observations of `scene` whose pixels at an ink edge (a 4-neighbour of another material) are
@@ -1309,7 +1317,7 @@ TEST_CASE("a view the centre fits badly cannot be dropped by tilting away from i
   CHECK(behind < obs.pixels / 50);
 }
 
-TEST_CASE("relief too steep for the search: refused or estimated, never NaN", "[normals]") {
+TEST_CASE("relief too steep for the search: refused, never NaN", "[normals]") {
   const Fixture& d = Data();
   sim::SyntheticSvbrdf scene = sim::MakeCardLayout(16, 16, 10.0, 2, 1);
   sim::ReliefOptions relief;
@@ -1318,11 +1326,6 @@ TEST_CASE("relief too steep for the search: refused or estimated, never NaN", "[
   const PixelObservations observed = sim::SyntheticObservations(
       scene, {d.continuous[0], d.continuous[1]}, d.views, {}, 0, int(scene.label.size()));
   const PooledModel reference = FitNormalReference(d.basis.View(), observed, PerPixel(), {});
-  // Measured, of 144 pixels steeper than the cone: one centre 2 refused and 72 estimated (26
-  // degrees off); two centres mixed none refused and 66 estimated (26.5 off), more of them taken
-  // back as no group's (69 against 47 kept flat). The 45 degree relief makes 13 groups of the
-  // card's 2 inks, and two such pieces mixed explain a steep pixel at a tilt inside the cone
-  // (docs/reconstruction.md, "Mixed pixels"): the cone's edge flags it only with one centre.
   for (const bool mixtures : {false, true}) {
     PixelObservations obs = observed;
     NormalSearchOptions search;
@@ -1330,15 +1333,28 @@ TEST_CASE("relief too steep for the search: refused or estimated, never NaN", "[
     search.mixed_pixels = mixtures;
     const PixelNormals normals =
         EstimateNormals(d.basis.View(), &obs, PerPixel(), search, &reference);
-    int refused = 0;
+    int steep = 0, steep_estimated = 0, steep_refused = 0;
     for (std::size_t p = 0; p < scene.label.size(); ++p) {
       REQUIRE(normals.normal[p].allFinite());
-      refused += normals.status[p] == NormalStatus::kRefused;
       if (normals.status[p] == NormalStatus::kRefused)
         CHECK(normals.normal[p] == Eigen::Vector3f::UnitZ());
+      if (NormalAngle(scene.normal[p], Eigen::Vector3f::UnitZ()) > DegToRad(25)) {
+        ++steep;
+        steep_estimated += normals.status[p] == NormalStatus::kEstimated;
+        steep_refused += normals.status[p] == NormalStatus::kRefused;
+      }
     }
     for (float v : obs.rgb) CHECK_FALSE(std::isinf(v));
-    if (!mixtures) CHECK(refused > 0);
+    // A steep facet is dark at the views it turns away from, views that any facet inside the
+    // cone faces (SeenDarkWhereLit). Measured, of 144 pixels steeper than the cone, either
+    // setting: 125 refused (flagged), 19 estimated. Before the dark views were read, the cone's
+    // edge alone flagged 2 (one centre) or none (two centres mixed, which explain a steep pixel
+    // at a tilt inside the cone) and 66-72 were estimated 26 degrees off.
+    INFO("mixtures " << mixtures << ": " << steep_estimated << " estimated, " << steep_refused
+                     << " refused of " << steep);
+    REQUIRE(steep > 100);
+    CHECK(steep_estimated < steep / 4);
+    CHECK(steep_refused > steep / 2);
   }
 }
 

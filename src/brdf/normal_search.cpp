@@ -6,6 +6,7 @@
 #include <limits>
 #include <optional>
 
+#include "brdf/evaluation.h"
 #include "brdf/log_mapping.h"
 #include "brdf/pixel_rows.h"
 #include "core/angles.h"
@@ -29,6 +30,7 @@ struct Candidate {
   // A mixed pixel (NormalSearchOptions::mixed_pixels): the other group whose centre's BRDF is
   // mixed with the first's (the first's share at least half); -1 for one centre.
   int second = -1;
+  float share = 1;  // the first group's share of a mixture
 };
 
 // A view that a candidate facet turns away from (light behind it, or the facet hidden from the
@@ -183,6 +185,15 @@ std::vector<std::vector<int>> NearestGroups(const BasisView& basis, const PixelO
 // The shares of a pair of centres tried for a mixed pixel (NormalSearchOptions::mixed_pixels).
 constexpr std::array<float, 3> kMixedShares = {0.25f, 0.5f, 0.75f};
 
+// SeenDarkWhereLit's thresholds. A view squarely in front of a facet: light and camera within
+// 80 degrees of its normal, so that an estimate a few degrees off does not turn the view away.
+// Dark: a tenth of the prediction in every channel, far beyond the noise (10% at most in the
+// study) and a mixed pixel's share (a quarter). Lit: a quarter of the explanation's median, so
+// that a glossy ink's dark off-specular views are not read as shadows.
+constexpr float kFacingCos = 0.17f;
+constexpr float kDarkFraction = 0.1f;
+constexpr double kLitFraction = 0.25;
+
 // One pixel's candidates scored by the best of its groups' centres (or two of them mixed),
 // coefficients held.
 struct CentreScorer {
@@ -293,16 +304,16 @@ struct CentreScorer {
       Prepare(kc);
       if (int(used.size()) < min_views) continue;
       const DarkViews::TurnedAway turned = dark.Of(n, obs, pixel);
-      const auto consider = [&](double misfit, int g, int second) {
+      const auto consider = [&](double misfit, int g, int second, float share) {
         int views = int(used.size());
         DarkViews::Charge(turned, &misfit, &views);
         const double score = misfit + o.prior * double(cand.slope.squaredNorm());
-        if (score < cand.score) cand = {cand.slope, score, views, g, misfit, second};
+        if (score < cand.score) cand = {cand.slope, score, views, g, misfit, second, share};
       };
       const bool mixtures = o.mixed_pixels && groups.size() >= 2;
       if (mixtures) observed = log_cosw.cast<float>();
       for (std::size_t a = 0; a < groups.size(); ++a) {
-        consider(Misfit(groups[a]), groups[a], -1);
+        consider(Misfit(groups[a]), groups[a], -1, 1);
         if (mixtures) KeepBrdf(int(a));
       }
       if (!mixtures) continue;
@@ -311,9 +322,55 @@ struct CentreScorer {
           for (float share : kMixedShares) {
             const bool a_first = share >= 0.5f;
             consider(MixedMisfit(int(a), int(b), share), a_first ? groups[a] : groups[b],
-                     a_first ? groups[b] : groups[a]);
+                     a_first ? groups[b] : groups[a], a_first ? share : 1 - share);
           }
     }
+  }
+  // How many views the facet of `best` faces squarely (light and camera both at a cosine of
+  // kFacingCos or more) were seen dark: every channel under kDarkFraction of what its
+  // explanation (its centre, or two centres mixed) predicts there, where that prediction is
+  // lit (at least kLitFraction of the explanation's median over those views). The renderer
+  // makes a facet dark only where it turns away from a view, so such a view says the true facet
+  // turns away where the estimate faces: relief steeper than the search's cone.
+  int SeenDarkWhereLit(const PixelObservations& obs, int pixel, const Candidate& best,
+                       const NormalSearchOptions& o) {
+    one.Resize(1, obs.views);
+    ToFacetFrame(NormalOfSlope(best.slope.x(), best.slope.y()),
+                 std::max(o.min_cos, o.score_min_cos), obs, pixel, &one, 0);
+    int kc = model.groups[best.group].centre_components;
+    if (best.second >= 0) kc = std::max(kc, model.groups[best.second].centre_components);
+    Prepare(kc);
+    Misfit(best.group);
+    KeepBrdf(0);
+    brdf_cosw[1] = brdf_cosw[0];
+    if (best.second >= 0) {
+      Misfit(best.second);
+      KeepBrdf(1);
+    }
+    const Eigen::ArrayXf lit = best.share * brdf_cosw[0] + (1 - best.share) * brdf_cosw[1];
+    std::vector<double> facing_lit;
+    std::vector<std::size_t> facing;
+    for (std::size_t i = 0; i < used.size(); ++i) {
+      const int v = used[i];
+      if (std::min(one.light[v].z(), one.camera[v].z()) < kFacingCos) continue;
+      facing.push_back(i);
+      facing_lit.push_back(lit.segment(Eigen::Index(3 * i), 3).sum());
+    }
+    if (facing.empty()) return 0;
+    std::vector<double> sorted = facing_lit;
+    const double median = MedianInPlace(sorted.data(), sorted.data() + sorted.size());
+    int dark = 0;
+    for (std::size_t f = 0; f < facing.size(); ++f) {
+      if (!(facing_lit[f] >= kLitFraction * median)) continue;
+      const std::size_t i = facing[f];
+      const double cos_weight = rows.samples[used[i]].cos_weight;
+      bool all_dark = true;
+      for (int ch = 0; ch < 3; ++ch)
+        all_dark = all_dark && one.rgb[3 * used[i] + ch] * cos_weight <
+                                   kDarkFraction * lit[Eigen::Index(3 * i + ch)];
+      dark += all_dark;
+    }
+    return dark;
   }
 };
 
@@ -412,6 +469,8 @@ struct ChunkSearch {
   // The candidate the data alone prefer (lowest misfit, the prior left out): on the cone's edge,
   // the relief is too steep for the search even where the prior pulled the best inside.
   std::vector<Candidate> by_data;
+  // Criterion kCentre: the views seen dark that the best's facet faces (SeenDarkWhereLit).
+  std::vector<int> seen_dark;
 };
 
 // The minimum of the quadratic through a 3 x 3 grid of scores f[a + 1][b + 1] at offsets
@@ -433,6 +492,20 @@ std::optional<Eigen::Vector2f> QuadraticMinimum(const double f[3][3]) {
   if (!(hxx > 0 && det > 0)) return std::nullopt;
   const double dx = -(hyy * gx - hxy * gy) / det, dy = -(hxx * gy - hxy * gx) / det;
   return Eigen::Vector2f(float(std::clamp(dx, -1.0, 1.0)), float(std::clamp(dy, -1.0, 1.0)));
+}
+
+// Criterion kCentre: each pixel's views seen dark at its best normal (SeenDarkWhereLit).
+void CountSeenDark(const BasisView& basis, const PixelObservations& obs, int first,
+                   const PooledModel& reference, const PixelSolveOptions& solve,
+                   const NormalSearchOptions& o, const DarkViews& dark, ChunkSearch* c) {
+#pragma omp parallel
+  {
+    CentreScorer scorer(basis, reference, solve.lookup, dark);
+#pragma omp for schedule(dynamic, 64)
+    for (int p = 0; p < int(c->best.size()); ++p)
+      if (c->best[p].group >= 0)
+        c->seen_dark[p] = scorer.SeenDarkWhereLit(obs, first + p, c->best[p], o);
+  }
 }
 
 ChunkSearch SearchChunk(const BasisView& basis, const PixelObservations& obs, int first, int count,
@@ -501,21 +574,24 @@ ChunkSearch SearchChunk(const BasisView& basis, const PixelObservations& obs, in
       }
     }
   }
-  if (!quadratic || o.Levels() == 0) return c;
-  // A Newton step on the quadratic through the last level's 3 x 3: one candidate more a pixel.
-  step *= 2;  // the last level's
-  std::vector<std::vector<Candidate>> lists(count);
-  for (int p = 0; p < count; ++p) {
-    double f[3][3];
-    for (int a = 0; a < 3; ++a)
-      for (int b = 0; b < 3; ++b) f[a][b] = last[p][a][b];
-    const std::optional<Eigen::Vector2f> d = QuadraticMinimum(f);
-    if (!d) continue;
-    const Eigen::Vector2f s = last_centre[p] + step * *d;
-    if (s.norm() <= cone * 1.0001f && s != c.best[p].slope) lists[p].push_back({s});
+  if (quadratic && o.Levels() > 0) {
+    // A Newton step on the quadratic through the last level's 3 x 3: one candidate more a pixel.
+    step *= 2;  // the last level's
+    std::vector<std::vector<Candidate>> lists(count);
+    for (int p = 0; p < count; ++p) {
+      double f[3][3];
+      for (int a = 0; a < 3; ++a)
+        for (int b = 0; b < 3; ++b) f[a][b] = last[p][a][b];
+      const std::optional<Eigen::Vector2f> d = QuadraticMinimum(f);
+      if (!d) continue;
+      const Eigen::Vector2f s = last_centre[p] + step * *d;
+      if (s.norm() <= cone * 1.0001f && s != c.best[p].slope) lists[p].push_back({s});
+    }
+    const std::vector<std::vector<Candidate>> scored = score(lists);
+    for (int p = 0; p < count; ++p) keep_best(p, scored[p]);
   }
-  const std::vector<std::vector<Candidate>> scored = score(lists);
-  for (int p = 0; p < count; ++p) keep_best(p, scored[p]);
+  c.seen_dark.assign(count, 0);
+  if (reference) CountSeenDark(basis, obs, first, *reference, solve, o, dark, &c);
   return c;
 }
 
@@ -553,6 +629,12 @@ PixelNormals EstimateNormals(const BasisView& basis, PixelObservations* obs,
     for (int p = 0; p < count; ++p) {
       const Candidate& best = c.best[p];
       if (!std::isfinite(best.score)) continue;  // no usable candidate: kAssumed
+      // A view the best facet faces yet seen dark: the true facet turns away from it, steeper
+      // than the cone, whether or not a centre explains the pixel at the best.
+      if (c.seen_dark[p] > 0) {
+        out.status[first + p] = NormalStatus::kRefused;
+        continue;
+      }
       // No centre explains the pixel even at its best normal: nothing to judge the normal by.
       if (by_centre && best.misfit > reference->groups[best.group].misfit_limit) continue;
       // A minimum on the cone's edge is not a minimum: the true tilt may lie beyond.

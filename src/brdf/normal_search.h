@@ -26,8 +26,9 @@ namespace acq {
 enum class NormalStatus : std::uint8_t {
   kAssumed = 0,     // not estimated: the sample's normal (search off, or no usable view)
   kEstimated = 1,   // the search's minimum, inside its cone
-  kRefused = 2,     // the minimum lay on the cone's edge (relief too steep for the search, or
-                    // the data cannot tell): the sample's normal kept, flagged
+  kRefused = 2,     // the minimum lay on the cone's edge, or a view its facet faces was seen
+                    // dark (relief too steep for the search, or the data cannot tell): the
+                    // sample's normal kept, flagged
   kNoEvidence = 3,  // the best tilt did not lower the misfit enough to pay for its two
                     // parameters (NormalSearchOptions::evidence): the sample's normal kept
 };
