@@ -86,13 +86,17 @@ void ReconstructionReport::Print() const {
     std::printf("pooled: %ld pixels with their group's prior, %ld alone; model %.2f s\n", pooled,
                 pixels - pooled, model_seconds);
   }
-  if (normals_estimated + normals_refused + normals_no_evidence > 0 || normal_seconds > 0)
+  if (normals_searched)
     std::printf(
         "normals: %ld estimated, %ld refused, %ld without evidence for a tilt (the sample's "
         "normal kept), %ld taken back (no group explains them); %.2f s\n",
         normals_estimated, normals_refused, normals_no_evidence, normals_reverted, normal_seconds);
   std::printf("time: %.3f s solving, %.2f s in all: %.3f megapixels/s\n", solve_seconds,
               total_seconds, total_seconds > 0 ? double(pixels) / total_seconds / 1e6 : 0.0);
+}
+
+bool ReconstructionReport::ManyNormalsRefused() const {
+  return normals_searched && double(normals_refused) > kRefusedShareWarning * double(pixels);
 }
 
 ReconstructionReport Reconstruct(const BasisView& basis, ObservationSource& source,
@@ -104,6 +108,7 @@ ReconstructionReport Reconstruct(const BasisView& basis, ObservationSource& sour
   const int w = source.Width(), h = source.Height();
   ReconstructionReport report;
   report.method = options.method;
+  report.normals_searched = options.normals.enabled;
   const bool pooled = options.method == ReconstructionMethod::kPooled;
   // Normals judged by the material groups' centres need a model fitted before any normal is
   // known (the observations taken as flat), whatever the method.

@@ -31,13 +31,20 @@ struct ReconstructionReport {
   PooledModel model;         // kPooled: the groups and model sizes chosen
   long pooled = 0;           // kPooled: pixels solved with their group's prior (the rest alone)
   double model_seconds = 0;  // kPooled: reading the sample and fitting the model
+  bool normals_searched = false;                    // options.normals.enabled
   long normals_estimated = 0, normals_refused = 0;  // normals.enabled
   long normals_no_evidence = 0;  // a tilt found that did not earn its keep (NormalStatus)
   long normals_reverted = 0;     // kPooled: estimated, but no group explains them: kAssumed
   double normal_seconds = 0;
   double solve_seconds = 0, total_seconds = 0;
   void Print() const;
+  // More than kRefusedShareWarning of the pixels refused a normal: relief steeper than the
+  // search's cone, or data that cannot tell, over a part of the sample worth a warning.
+  bool ManyNormalsRefused() const;
 };
+// The embossed card at 10 degrees (inside the cone) refuses 1.8-2.0% of its pixels through acqd
+// (ink edges where the data cannot tell); the same card at 40 degrees 7.8%.
+inline constexpr double kRefusedShareWarning = 0.05;
 
 // With method kPooled the source is read twice: once for a sample of pixels the model is fitted
 // on, once for the solve (memory stays bounded by a band and the sample).
