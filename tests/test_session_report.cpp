@@ -14,6 +14,7 @@ SessionReport WithNormals(long pixels, long refused) {
   SessionReport r;
   ReconstructionReport& m = r.process.reconstruction;
   m.normals_searched = true;
+  m.normals_max_tilt_deg = 25;
   m.pixels = m.valid = pixels;
   m.normals_refused = refused;
   m.normals_estimated = pixels - refused;
@@ -33,7 +34,9 @@ TEST_CASE("the report counts the normal search's outcomes and warns when many ar
   CHECK(Has(steep.Json(), "\"refused\": 5120"));
   CHECK(Has(steep.Json(), "\"many_refused\": true"));
   CHECK(Has(steep.Text(), "normals: 60416 estimated, 5120 refused"));
-  CHECK(Has(steep.Text(), "WARNING: 7.8% of the pixels refused a normal"));
+  CHECK(Has(steep.Text(),
+            "WARNING: 7.8% of the pixels refused a normal: relief steeper than "
+            "the search's 25 degree cone"));
   // 2.0% refused: the same card at 10 degrees (ink edges where the data cannot tell).
   const SessionReport embossed = WithNormals(65536, 1285);
   CHECK(Has(embossed.Json(), "\"many_refused\": false"));

@@ -86,17 +86,35 @@ void ReconstructionReport::Print() const {
     std::printf("pooled: %ld pixels with their group's prior, %ld alone; model %.2f s\n", pooled,
                 pixels - pooled, model_seconds);
   }
-  if (normals_searched)
-    std::printf(
-        "normals: %ld estimated, %ld refused, %ld without evidence for a tilt (the sample's "
-        "normal kept), %ld taken back (no group explains them); %.2f s\n",
-        normals_estimated, normals_refused, normals_no_evidence, normals_reverted, normal_seconds);
+  if (normals_searched) std::printf("%s; %.2f s\n", NormalsSummary().c_str(), normal_seconds);
+  if (ManyNormalsRefused()) std::printf("  %s\n", NormalsWarning().c_str());
   std::printf("time: %.3f s solving, %.2f s in all: %.3f megapixels/s\n", solve_seconds,
               total_seconds, total_seconds > 0 ? double(pixels) / total_seconds / 1e6 : 0.0);
 }
 
 bool ReconstructionReport::ManyNormalsRefused() const {
   return normals_searched && double(normals_refused) > kRefusedShareWarning * double(pixels);
+}
+
+std::string ReconstructionReport::NormalsSummary() const {
+  char line[512];
+  std::snprintf(line, sizeof line,
+                "normals: %ld estimated, %ld refused, %ld without evidence for a tilt (the "
+                "sample's normal kept), %ld taken back (no group explains them)",
+                normals_estimated, normals_refused, normals_no_evidence, normals_reverted);
+  return line;
+}
+
+std::string ReconstructionReport::NormalsWarning() const {
+  if (!ManyNormalsRefused()) return "";
+  char line[512];
+  std::snprintf(line, sizeof line,
+                "WARNING: %.1f%% of the pixels refused a normal: relief steeper than the "
+                "search's %.0f degree cone (or data that cannot tell a tilt) there: their "
+                "normals are kept flat (normal_status 2) and their BRDFs solved as if flat, "
+                "so use the map there with care",
+                100.0 * double(normals_refused) / double(pixels), normals_max_tilt_deg);
+  return line;
 }
 
 ReconstructionReport Reconstruct(const BasisView& basis, ObservationSource& source,
@@ -109,6 +127,7 @@ ReconstructionReport Reconstruct(const BasisView& basis, ObservationSource& sour
   ReconstructionReport report;
   report.method = options.method;
   report.normals_searched = options.normals.enabled;
+  report.normals_max_tilt_deg = options.normals.max_tilt_deg;
   const bool pooled = options.method == ReconstructionMethod::kPooled;
   // Normals judged by the material groups' centres need a model fitted before any normal is
   // known (the observations taken as flat), whatever the method.

@@ -32,6 +32,7 @@ struct ReconstructionReport {
   long pooled = 0;           // kPooled: pixels solved with their group's prior (the rest alone)
   double model_seconds = 0;  // kPooled: reading the sample and fitting the model
   bool normals_searched = false;                    // options.normals.enabled
+  double normals_max_tilt_deg = 0;                  // options.normals.max_tilt_deg
   long normals_estimated = 0, normals_refused = 0;  // normals.enabled
   long normals_no_evidence = 0;  // a tilt found that did not earn its keep (NormalStatus)
   long normals_reverted = 0;     // kPooled: estimated, but no group explains them: kAssumed
@@ -41,6 +42,10 @@ struct ReconstructionReport {
   // More than kRefusedShareWarning of the pixels refused a normal: relief steeper than the
   // search's cone, or data that cannot tell, over a part of the sample worth a warning.
   bool ManyNormalsRefused() const;
+  // normals_searched: "normals: ... estimated, ... refused, ..." (no newline).
+  std::string NormalsSummary() const;
+  // Where ManyNormalsRefused: "WARNING: ..." (no newline), what it means for the map; else "".
+  std::string NormalsWarning() const;
 };
 // The embossed card at 10 degrees (inside the cone) refuses 1.8-2.0% of its pixels through acqd
 // (ink edges where the data cannot tell); the same card at 40 degrees 7.8%.

@@ -254,28 +254,6 @@ std::string TimeText(const SessionReport& s) {
   return t.str() + line;
 }
 
-// The normal search's outcome (reconstruction.normals), and what to do when it refused much.
-std::string NormalsText(const ReconstructionReport& r) {
-  std::ostringstream t;
-  char line[256];
-  std::snprintf(line, sizeof line,
-                "normals: %ld estimated, %ld refused, %ld without evidence for a tilt, %ld taken "
-                "back (no material group explains them); the map's normal_status says which\n",
-                r.normals_estimated, r.normals_refused, r.normals_no_evidence, r.normals_reverted);
-  t << line;
-  if (r.ManyNormalsRefused()) {
-    std::snprintf(line, sizeof line,
-                  "  WARNING: %.1f%% of the pixels refused a normal: relief steeper than the "
-                  "search's %.0f degree cone (or data that cannot tell a tilt) there: their "
-                  "normals are kept flat (normal_status 2) and their BRDFs solved as if flat, "
-                  "so use the map there with care\n",
-                  100.0 * double(r.normals_refused) / double(r.pixels),
-                  NormalSearchOptions().max_tilt_deg);
-    t << line;
-  }
-  return t.str();
-}
-
 // The map, the calibration and the validation views.
 std::string ResultText(const ProcessReport& p) {
   const ReconstructionReport& r = p.reconstruction;
@@ -294,7 +272,8 @@ std::string ResultText(const ProcessReport& p) {
                   r.pooled, r.pixels - r.pooled);
     t << line;
   }
-  if (r.normals_searched) t << NormalsText(r);
+  if (r.normals_searched) t << r.NormalsSummary() << "; the map's normal_status says which\n";
+  if (r.ManyNormalsRefused()) t << "  " << r.NormalsWarning() << "\n";
   const SessionCalibration& c = p.calibration;
   int found = 0;
   for (const BoardPoseResult& b : c.boards) found += b.found;
