@@ -25,6 +25,10 @@ def line_panels(rows, axes):
                 ax.plot(x, [float(r["false_tilt_flat_deg"]) for r in pts], style, color=colour,
                         alpha=0.45, label="false tilt on flat areas, " + search)
             ax2.plot(x, [float(r["map_error"]) for r in pts], style, color=colour, lw=0.8)
+            if case == "slope" and search == "centre":  # where the search must refuse
+                for r, xi in zip(pts, x):
+                    ax.annotate("%s refused" % r["refused"], (xi, float(r["normal_error_relief_deg"])),
+                                fontsize=6, color=colour, textcoords="offset points", xytext=(3, -9))
         ax.axhline(2.0, color="k", lw=0.4)
         ax.axhline(0.5, color="k", lw=0.4, ls="--")
         ax.set_xlabel(label)

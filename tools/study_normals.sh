@@ -42,7 +42,8 @@ run() {  # CASE VALUE ARGS...: one reconstruction per search
     echo "$case,$value,$search,$err,${relief:-nan},${flat:-nan},${refused:-0},${none:-0},$seconds" | tee -a "$csv"
   done
 }
-for slope in 2 5 10 20; do run slope "$slope" --method independent --relief-deg "$slope"; done
+# 40: steeper than the search's 25 degree cone, where it must refuse (the refused column).
+for slope in 2 5 10 20 40; do run slope "$slope" --method independent --relief-deg "$slope"; done
 for noise in 0.02 0.05 0.1; do run noise "$noise" --method independent --relief-deg 10 --noise "$noise"; done
 for m in brass white-paint black-fabric chrome; do
   run material "$m" --method independent --relief-deg 10 --materials "$m"
