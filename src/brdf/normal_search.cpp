@@ -342,12 +342,12 @@ struct CentreScorer {
     Prepare(kc);
     Misfit(best.group);
     KeepBrdf(0);
-    brdf_cosw[1] = brdf_cosw[0];
+    Eigen::ArrayXf lit = brdf_cosw[0];  // the explanation's cos-weighted BRDF at the used views
     if (best.second >= 0) {
       Misfit(best.second);
       KeepBrdf(1);
+      lit = best.share * brdf_cosw[0] + (1 - best.share) * brdf_cosw[1];
     }
-    const Eigen::ArrayXf lit = best.share * brdf_cosw[0] + (1 - best.share) * brdf_cosw[1];
     std::vector<double> facing_lit;
     std::vector<std::size_t> facing;
     for (std::size_t i = 0; i < used.size(); ++i) {
