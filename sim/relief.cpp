@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <opencv2/imgcodecs.hpp>
 #include <random>
 
 #include "core/angles.h"
@@ -10,6 +9,7 @@
 #include "core/facet_frame.h"
 #include "core/sample_grid.h"
 #include "io/float_planes_exr.h"
+#include "sim/sample_files.h"
 
 namespace acq::sim {
 namespace {
@@ -107,8 +107,8 @@ std::vector<float> ReadHeightMap(const std::string& path, int width, int height,
     w = file.width, h = file.height;
     out = std::move(file.planes["height"]);
   } else {
-    const cv::Mat grey = cv::imread(path, cv::IMREAD_GRAYSCALE | cv::IMREAD_ANYDEPTH);
-    if (grey.empty()) throw UserError(path, "cannot read the height map", "give an EXR or a PNG");
+    const cv::Mat grey = ReadGreyImage(
+        path, "height map", "give an EXR with a 'height' plane or an 8- or 16-bit grey PNG");
     w = grey.cols, h = grey.rows;
     const double full = grey.depth() == CV_16U ? 65535.0 : 255.0;
     for (int y = 0; y < h; ++y)
@@ -122,8 +122,10 @@ std::vector<float> ReadHeightMap(const std::string& path, int width, int height,
                     "the height map is " + std::to_string(w) + "x" + std::to_string(h) +
                         ", the sample " + std::to_string(width) + "x" + std::to_string(height),
                     "give a height map of the sample's size");
-  for (float v : out)
-    if (!std::isfinite(v)) throw UserError(path, "holds a height that is not a number");
+  for (std::size_t p = 0; p < out.size(); ++p)
+    if (!std::isfinite(out[p]))
+      throw UserError(path, PixelName(p, w) + " has a height that is not finite",
+                      "give finite heights, in pixels");
   return out;
 }
 

@@ -3,11 +3,11 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
-#include <opencv2/imgcodecs.hpp>
 #include <random>
 
 #include "core/error.h"
 #include "io/float_planes_exr.h"
+#include "sim/sample_files.h"
 
 namespace acq::sim {
 namespace {
@@ -51,12 +51,6 @@ class MixtureTable {
   std::map<std::vector<std::pair<int, int>>, std::uint8_t> labels_;
   std::vector<Mixture> mixtures_;
 };
-
-// "pixel (x, y)" of a row-major index, for errors.
-std::string PixelName(std::size_t index, int width) {
-  return "pixel (" + std::to_string(index % std::size_t(width)) + ", " +
-         std::to_string(index / std::size_t(width)) + ")";
-}
 
 SyntheticSvbrdf EmptyLayout(int width, int height, double size_mm) {
   SyntheticSvbrdf s;
@@ -225,12 +219,18 @@ MixedSample ReadSampleLabels(const std::string& path, int materials, double size
   const bool exr = path.size() > 4 && path.substr(path.size() - 4) == ".exr";
   if (exr) {
     const FloatPlanes f = ReadFloatPlanesExr(path);
-    for (float v : f.Plane("label", path)) labels.push_back(int(std::lround(v)));
+    const std::vector<float>& plane = f.Plane("label", path);
+    for (std::size_t p = 0; p < plane.size(); ++p) {
+      // A label is an index: a fraction or NaN is a file of weights or heights given by mistake.
+      if (!std::isfinite(plane[p]) || std::abs(plane[p] - std::round(plane[p])) > 1e-3f)
+        throw UserError(path, PixelName(p, f.width) + " has label " + std::to_string(plane[p]),
+                        "labels are whole numbers, each a material's index in --materials "
+                        "(mixtures go in a weight image)");
+      labels.push_back(int(std::lround(plane[p])));
+    }
     width = f.width, height = f.height;
   } else {
-    const cv::Mat image = cv::imread(path, cv::IMREAD_ANYDEPTH | cv::IMREAD_GRAYSCALE);
-    if (image.empty())
-      throw UserError(path, "cannot read the label image", "give an 8- or 16-bit grey PNG");
+    const cv::Mat image = ReadGreyImage(path, "label image", "give an 8- or 16-bit grey PNG");
     cv::Mat wide;
     image.convertTo(wide, CV_32S);
     labels.assign(wide.begin<int>(), wide.end<int>());

@@ -131,6 +131,13 @@ expect_error "sample file of another size than --size" "labels.png" "2x2 pixels 
   "$acq" reconstruct synthetic --basis "$tmp/three.acqb" --directions "$data/directions/seed_directions_20.tsv" \
   --materials-dir "$data/nbrdf/merl" --materials brass,white-paint --k 3 --sample-labels "$tmp/labels.png" \
   --size 16x16 -o "$tmp/x.exr"
+/usr/bin/python3 -c "import numpy, cv2; cv2.imwrite('$tmp/labels.png', numpy.array([[[0, 0, 0], [0, 0, 9]]], numpy.uint8))"
+expect_error "colour label image" "labels.png" "label image is in colour" -- \
+  "$acq" reconstruct synthetic --basis "$tmp/three.acqb" --directions "$data/directions/seed_directions_20.tsv" \
+  --materials-dir "$data/nbrdf/merl" --materials brass,white-paint --k 3 --sample-labels "$tmp/labels.png" -o "$tmp/x.exr"
+expect_error "an empty list of materials" "--materials" "the list given is empty" -- \
+  "$acq" reconstruct synthetic --basis "$tmp/three.acqb" --directions "$data/directions/seed_directions_20.tsv" \
+  --materials-dir "$data/nbrdf/merl" --materials , --k 3 -o "$tmp/x.exr"
 expect_error "unknown sample" "--sample" "card, blend, marble or text" -- \
   "$acq" reconstruct synthetic --basis "$tmp/three.acqb" --directions "$data/directions/seed_directions_20.tsv" \
   --materials-dir "$data/nbrdf/merl" --k 3 --sample tartan -o "$tmp/x.exr"

@@ -117,6 +117,10 @@ std::vector<std::string> Args::All(const std::string& name) const {
     for (std::string part; std::getline(s, part, ',');)
       if (!part.empty()) out.push_back(part);
   }
+  // Given but naming nothing (`--materials ,`) is a slip, not a request for the default.
+  if (out.empty())
+    throw UserError(command_ + " --" + name, "the list given is empty",
+                    "name at least one value, separated by commas");
   return out;
 }
 
