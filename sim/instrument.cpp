@@ -21,6 +21,31 @@ calib::CameraModel FramingPinhole(const InstrumentOptions& o) {
   return calib::CameraModel("LENSMODEL_PINHOLE", {f, f, (w - 1) / 2.0, (h - 1) / 2.0}, w, h);
 }
 
+std::vector<std::string> MaterialNames(const std::vector<std::string>& material_files) {
+  std::vector<std::string> names;
+  for (const std::string& f : material_files)
+    names.push_back(std::filesystem::path(f).stem().string());
+  return names;
+}
+
+// The instrument's sample: a file's layout, or a built-in one at 0.1 mm per label cell, a few
+// times finer than a camera pixel. One function, because the scoring must rebuild exactly the
+// mixtures the camera saw.
+MixedSample InstrumentSample(const InstrumentOptions& o) {
+  if (o.sample_file)
+    return ReadSampleFile(*o.sample_file, MaterialNames(o.material_files), o.sample_size_mm);
+  const int cells = std::max(16, int(o.sample_size_mm * 10));
+  return MakeSample(o.sample, cells, cells, o.sample_size_mm, int(o.material_files.size()), o.seed);
+}
+
+// The heights of the relief the options ask for on `layout`; empty when flat.
+std::vector<float> InstrumentRelief(const InstrumentOptions& o, const SyntheticSvbrdf& layout) {
+  if (!o.height_map_file.empty())
+    return ReadHeightMap(o.height_map_file, layout.width, layout.height, kPngHeightFullScalePx);
+  if (o.relief) return CardRelief(layout, *o.relief);
+  return {};
+}
+
 }  // namespace
 
 void InstrumentOptions::Check() const {
@@ -38,19 +63,13 @@ void InstrumentOptions::Check() const {
       (image_width < 16 || image_height < 16 || image_width > 16384 || image_height > 16384))
     throw UserError(where, "the simulated camera's image must be 16 to 16384 pixels a side");
   if (held_board_poses < 0) throw UserError(where, "a negative number of held board poses");
+  if (relief && !height_map_file.empty())
+    throw UserError(where, "both a built-in relief and a height map", "give one of them");
+  if (relief) relief->Check();
+  // The sample's files read now (cheap: a layout, not the materials), their errors named.
+  if (sample_file || !height_map_file.empty())
+    InstrumentRelief(*this, InstrumentSample(*this).layout);
 }
-
-namespace {
-
-// The instrument's sample: its layout at 0.1 mm per label cell, a few times finer than a camera
-// pixel. One function, because the scoring must rebuild exactly the mixtures the camera saw.
-MixedSample InstrumentSample(SampleKind kind, double sample_size_mm, int materials,
-                             std::uint64_t seed) {
-  const int cells = std::max(16, int(sample_size_mm * 10));
-  return MakeSample(kind, cells, cells, sample_size_mm, materials, seed);
-}
-
-}  // namespace
 
 Instrument::Instrument(const InstrumentOptions& options) : options_(options) {
   options_.Check();
@@ -58,18 +77,13 @@ Instrument::Instrument(const InstrumentOptions& options) : options_(options) {
     networks_.push_back(NeuralBrdf::Load(path));
   scene_.kind = RenderScene::Kind::kCard;
   scene_.sample_size_mm = options_.sample_size_mm;
-  const MixedSample sample = InstrumentSample(options_.sample, options_.sample_size_mm,
-                                              int(networks_.size()), options_.seed);
+  const MixedSample sample = InstrumentSample(options_);
   scene_.card = sample.layout;
-  if (options_.relief)
-    SetNormalsFromHeight(&scene_.card, CardRelief(scene_.card, *options_.relief));
-  std::vector<std::string> names;
-  for (std::size_t i = 0; i < networks_.size(); ++i) {
-    base_truths_.push_back({&networks_[i], nullptr});
-    names.push_back(std::filesystem::path(options_.material_files[i]).stem().string());
-  }
+  const std::vector<float> heights = InstrumentRelief(options_, scene_.card);
+  if (!heights.empty()) SetNormalsFromHeight(&scene_.card, heights);
+  for (NeuralBrdf& network : networks_) base_truths_.push_back({&network, nullptr});
   scene_.materials = sample.Truths(base_truths_);
-  scene_.material_names = sample.Names(names);
+  scene_.material_names = sample.Names(MaterialNames(options_.material_files));
   model_ = options_.camera_model_file.empty()
                ? FramingPinhole(options_)
                : calib::CameraModel::Read(options_.camera_model_file);
@@ -156,15 +170,14 @@ void Instrument::Place(const Placement& p) {
   camera_->SetScene(std::move(scene));
 }
 
-std::vector<MerlBrdf> TruthTables(const std::vector<std::string>& material_files, bool colour,
-                                  SampleKind sample, double sample_size_mm, std::uint64_t seed) {
+std::vector<MerlBrdf> TruthTables(const InstrumentOptions& options, bool colour) {
   std::vector<MerlBrdf> tables;
-  for (const std::string& path : material_files) {
+  for (const std::string& path : options.material_files) {
     MerlBrdf table = NeuralBrdf::Load(path).Tabulate();
     tables.push_back(colour ? std::move(table) : LuminanceOf(table));
   }
-  if (sample == SampleKind::kCard) return tables;
-  return InstrumentSample(sample, sample_size_mm, int(material_files.size()), seed).Tables(tables);
+  if (options.sample == SampleKind::kCard && !options.sample_file) return tables;
+  return InstrumentSample(options).Tables(tables);
 }
 
 void Instrument::WriteGroundTruth(const std::string& dir) const {

@@ -27,7 +27,8 @@ namespace acq::sim {
 struct InstrumentOptions {
   std::vector<std::string> material_files;  // neural-BRDF fits (.h5): the card's inks
   SampleKind sample = SampleKind::kCard;    // how the materials are laid out (sample_layouts.h)
-  double sample_size_mm = 70;               // the square card's side
+  std::optional<SampleFile> sample_file;    // or a file lays them out (overrides `sample`)
+  double sample_size_mm = 70;               // the card's side; a file's: its width, square pixels
   double camera_distance_mm = 1000, light_distance_mm = 1000;
   double light_intensity = 2e5;  // the renderer's units x mm^2
   calib::BoardSpec board{10, 10, 20};
@@ -44,11 +45,15 @@ struct InstrumentOptions {
   // Relief on the sample (issue 19): the card embossed and its border raised (relief.h), each
   // point rendered in its facet's frame; unset: flat. Boards, chart and Spectralon stay flat.
   std::optional<ReliefOptions> relief;
+  // Or the relief from a height map (ReadHeightMap; heights in the sample layout's cells: a file
+  // sample's pixels, or the built-in samples' 0.1 mm cells), of the layout's size.
+  std::string height_map_file;
   FirmwareOptions firmware;
   EmulatedUsbOptions usb;
   std::uint64_t seed = 1;
   std::string where = "the simulated instrument";  // what its errors name (the plan)
-  // Throws UserError (naming `where`) for options no instrument can be built from.
+  // Throws UserError (naming `where`, or the file) for options no instrument can be built
+  // from; reads the sample's files, so that their errors come before anything moves.
   void Check() const;
 };
 
@@ -87,11 +92,9 @@ class Instrument {
 // third of its red): what the colour instrument's light is unless the plan says otherwise.
 inline const Eigen::Vector3d kWarmLight{1.38, 1.0, 0.55};
 
-// What a map of a set of materials should hold: each tabulated, in linear Rec. 709 for a colour
-// camera, in luminance (the same value thrice) for a mono one; for a sample other than the card,
-// the tables of its mixtures in the order of its labels (the same layout the instrument builds).
-std::vector<MerlBrdf> TruthTables(const std::vector<std::string>& material_files, bool colour,
-                                  SampleKind sample = SampleKind::kCard, double sample_size_mm = 0,
-                                  std::uint64_t seed = 1);
+// What a map of the instrument's materials should hold: each tabulated, in linear Rec. 709 for a
+// colour camera, in luminance (the same value thrice) for a mono one; for a sample other than the
+// card, the tables of its mixtures in the order of its labels (the layout the instrument builds).
+std::vector<MerlBrdf> TruthTables(const InstrumentOptions& options, bool colour);
 
 }  // namespace acq::sim

@@ -27,6 +27,9 @@ struct ReliefOptions {
 // The built-in relief's height map for `layout` (width * height, row-major).
 std::vector<float> CardRelief(const SyntheticSvbrdf& layout, const ReliefOptions& options);
 
+// A height map PNG's full scale, in pixels of the map: 8 (a 16-bit PNG's step is 1/8192 pixel).
+inline constexpr double kPngHeightFullScalePx = 8.0;
+
 // A height map read from a file, which must be the layout's size (UserError naming both sizes).
 std::vector<float> ReadHeightMap(const std::string& path, int width, int height,
                                  double png_height_px);

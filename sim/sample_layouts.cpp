@@ -4,6 +4,7 @@
 #include <cmath>
 #include <map>
 #include <random>
+#include <stdexcept>
 
 #include "core/error.h"
 #include "io/float_planes_exr.h"
@@ -245,7 +246,8 @@ MixedSample ReadSampleLabels(const std::string& path, int materials, double size
       throw UserError(path,
                       PixelName(p, width) + " has label " + std::to_string(labels[p]) +
                           " but only " + std::to_string(materials) + " materials are given",
-                      "give one material per label value, in order (--materials)");
+                      "give one material per label value, listed in that order (--materials, or "
+                      "sim.materials in a plan)");
     s.layout.label[p] = std::uint8_t(labels[p]);
   }
   s.mixtures = table.Take();
@@ -279,6 +281,17 @@ MixedSample ReadSampleWeights(const std::string& path, const std::vector<std::st
   }
   s.mixtures = table.Take();
   return s;
+}
+
+MixedSample ReadSampleFile(const SampleFile& file, const std::vector<std::string>& materials,
+                           double sample_size_mm) {
+  switch (file.kind) {
+    case SampleFile::Kind::kLabels:
+      return ReadSampleLabels(file.path, int(materials.size()), sample_size_mm);
+    case SampleFile::Kind::kWeights:
+      return ReadSampleWeights(file.path, materials, sample_size_mm);
+  }
+  throw std::logic_error("ReadSampleFile: unknown file kind");
 }
 
 }  // namespace acq::sim

@@ -46,4 +46,9 @@ MixedSample ReadSampleLabels(const std::string& path, int materials, double samp
 MixedSample ReadSampleWeights(const std::string& path, const std::vector<std::string>& materials,
                               double sample_size_mm);
 
+// The sample a SampleFile describes (ReadSampleLabels or ReadSampleWeights), its materials named
+// `materials` (a weight image's planes are named as they are).
+MixedSample ReadSampleFile(const SampleFile& file, const std::vector<std::string>& materials,
+                           double sample_size_mm);
+
 }  // namespace acq::sim

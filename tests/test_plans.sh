@@ -68,6 +68,27 @@ expect "unknown sim.sample" 1 unknown_sample.yaml --dry-run -- \
   "unknown_sample.yaml:25:" "sim.sample 'tartan' is not known" "card, blend, marble or text"
 expect "relief too steep" 1 steep_relief.yaml --dry-run -- \
   "steep_relief.yaml:25:" "sim.relief.slope_deg must be from above 0 to 60"
+# A sample the user describes with files (sim.sample: {labels}, sim.relief: {height_map}): read
+# and checked at the dry run, before anything moves.
+/usr/bin/python3 - "$tmp" <<'PY'
+import sys, numpy, cv2
+d = sys.argv[1]
+labels = numpy.zeros((64, 48), numpy.uint8); labels[10:20, 5:40] = 1
+cv2.imwrite(d + "/labels.png", labels)
+cv2.imwrite(d + "/height.png", (labels * 4000).astype(numpy.uint16))
+cv2.imwrite(d + "/small_height.png", numpy.zeros((32, 32), numpy.uint16))
+labels[30, 7] = 2  # the plan lists two materials: label 2 names none
+cv2.imwrite(d + "/labels_unlisted.png", labels)
+PY
+expect "sample and relief from files" 0 sample_file.yaml --dry-run -- "estimated capture time"
+expect "height map of another size than the sample" 1 height_wrong_size.yaml --dry-run -- \
+  "small_height.png" "the height map is 32x32, the sample 48x64"
+expect "label naming no listed material" 1 sample_label_unlisted.yaml --dry-run -- \
+  "labels_unlisted.png" "pixel (7, 30) has label 2 but only 2 materials are given"
+expect "labels and weights both" 1 sample_both.yaml --dry-run -- \
+  "sample_both.yaml:25:" "sim.sample needs one of labels and weights"
+expect "height map and built-in relief both" 1 relief_both.yaml --dry-run -- \
+  "relief_both.yaml:25:" "sim.relief.height_map excludes slope_deg and fibre_deg"
 expect "a mixed sample of one material" 1 sample_one_material.yaml --dry-run -- \
   "sample_one_material.yaml:25:" "mixes two materials"
 expect "unknown lens model" 1 bad_lensmodel.yaml --dry-run -- \

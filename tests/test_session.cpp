@@ -438,6 +438,13 @@ TEST_CASE("session: a whole simulated session, scored; kill -9 and resume give t
     // What was captured cannot change, and a copy never lands inside its session.
     const std::string gain = Output(acq + " --set camera.gain_db=6 -o " + base + "/gain 2>&1");
     CHECK(gain.find("change what was captured: camera") != std::string::npos);
+    // A bad value is named by the --set that gave it, not by the scratch plan it was checked in.
+    const std::string bad = Output(acq + " --from reconstruction --set reconstruction.k=10 " +
+                                   "--set reconstruction.normals=maybe -o " + base + "/bad 2>&1");
+    CHECK(bad.find("--set reconstruction.normals=maybe: reconstruction.normals must be true or "
+                   "false") != std::string::npos);
+    CHECK(bad.find("processed_plan.yaml") == std::string::npos);
+    CHECK_FALSE(fs::exists(base + "/bad"));
     const std::string inside = Output(acq + " -o " + session + "/copy 2>&1");
     CHECK(inside.find("inside the session") != std::string::npos);
     CHECK(ReadText(session + "/svbrdf.exr") == map_before);

@@ -62,6 +62,7 @@ class Section {
   }
 
   bool Has(const std::string& key) const { return bool(node_[key]); }
+  bool HasMap(const std::string& key) const { return Has(key) && node_[key].IsMap(); }
   std::string Where(const YAML::Node& n) const {
     YAML::Mark m = n.Mark();
     if (m.is_null()) m = fallback_;  // a node made here, not read from the file
@@ -464,6 +465,49 @@ std::vector<std::string> ReadSimMaterials(const YAML::Node& root, const Section&
   return files;
 }
 
+// sim.sample: {labels: FILE} or {weights: FILE} (docs/session-and-plan.md); the file's contents
+// are checked against the materials when the simulated instrument is built (acqd does so
+// before its dry run answers).
+SampleFile ReadSampleFile(const Section& sim, const std::string& base) {
+  const Section sample = sim.Child("sample", {"labels", "weights"});
+  if (sample.Has("labels") == sample.Has("weights"))
+    throw UserError(sim.Where("sample"), "sim.sample needs one of labels and weights",
+                    "{labels: FILE} (each pixel a material's index in sim.materials) or "
+                    "{weights: FILE.exr} (one plane per material)");
+  const std::string key = sample.Has("labels") ? "labels" : "weights";
+  SampleFile f;
+  f.kind = key == "labels" ? SampleFile::Kind::kLabels : SampleFile::Kind::kWeights;
+  f.path = Resolve(base, sample.Text(key));
+  RequireFile(sample, key, f.path,
+              key == "labels" ? "a grey PNG or an EXR with a 'label' plane"
+                              : "an EXR with one plane per material, named as the material");
+  return f;
+}
+
+// sim.relief: the built-in embossing {slope_deg, fibre_deg} or a file {height_map}.
+SimSpec::Relief ReadRelief(const Section& relief, const std::string& base) {
+  SimSpec::Relief r;
+  if (relief.Has("height_map")) {
+    if (relief.Has("slope_deg") || relief.Has("fibre_deg"))
+      throw UserError(relief.Where("height_map"),
+                      "sim.relief.height_map excludes slope_deg and fibre_deg",
+                      "the file gives the relief; leave out the built-in relief's keys");
+    r.height_map = Resolve(base, relief.Text("height_map"));
+    RequireFile(relief, "height_map", r.height_map,
+                "an EXR with a 'height' plane or a grey PNG, the sample layout's size");
+    return r;
+  }
+  r.slope_deg = relief.Number("slope_deg", r.slope_deg);
+  r.fibre_deg = relief.Number("fibre_deg", r.fibre_deg);
+  if (!(r.slope_deg > 0 && r.slope_deg < 60))
+    throw UserError(relief.Where("slope_deg"), "sim.relief.slope_deg must be from above 0 to 60",
+                    "the steepest slope of the embossed edges, in degrees, like 10");
+  if (!(r.fibre_deg >= 0 && r.fibre_deg < 30))
+    throw UserError(relief.Where("fibre_deg"), "sim.relief.fibre_deg must be from 0 to 30",
+                    "the paper fibre's RMS slope in degrees; 0: none");
+  return r;
+}
+
 SimSpec ReadSim(const YAML::Node& root, const Section& top, const std::string& base,
                 Backend backend) {
   const Section sim = top.Child(
@@ -471,11 +515,13 @@ SimSpec ReadSim(const YAML::Node& root, const Section& top, const std::string& b
               "camera_model", "camera_filter", "light_rgb", "sample", "relief"});
   SimSpec s;
   if (backend == Backend::kSim) s.materials = ReadSimMaterials(root, sim, base);
-  if (sim.Has("sample")) {
+  if (sim.HasMap("sample")) {
+    s.sample_file = ReadSampleFile(sim, base);
+  } else if (sim.Has("sample")) {
     const std::optional<SampleKind> kind = ParseSampleKind(sim.Text("sample"));
     if (!kind)
       throw UserError(sim.Where("sample"), "sim.sample '" + sim.Text("sample") + "' is not known",
-                      "card, blend, marble or text");
+                      "card, blend, marble or text; or {labels: FILE} or {weights: FILE}");
     s.sample = *kind;
     if (s.sample != SampleKind::kCard && backend == Backend::kSim && s.materials.size() < 2)
       throw UserError(sim.Where("sample"),
@@ -519,19 +565,8 @@ SimSpec ReadSim(const YAML::Node& root, const Section& top, const std::string& b
                       "each Rec. 709 channel's share of the light, like [1, 0.72, 0.42]");
     s.light_rgb = Eigen::Vector3d(rgb[0], rgb[1], rgb[2]);
   }
-  if (sim.Has("relief")) {
-    const Section relief = sim.Child("relief", {"slope_deg", "fibre_deg"});
-    SimSpec::Relief r;
-    r.slope_deg = relief.Number("slope_deg", r.slope_deg);
-    r.fibre_deg = relief.Number("fibre_deg", r.fibre_deg);
-    if (!(r.slope_deg > 0 && r.slope_deg < 60))
-      throw UserError(relief.Where("slope_deg"), "sim.relief.slope_deg must be from above 0 to 60",
-                      "the steepest slope of the embossed edges, in degrees, like 10");
-    if (!(r.fibre_deg >= 0 && r.fibre_deg < 30))
-      throw UserError(relief.Where("fibre_deg"), "sim.relief.fibre_deg must be from 0 to 30",
-                      "the paper fibre's RMS slope in degrees; 0: none");
-    s.relief = r;
-  }
+  if (sim.Has("relief"))
+    s.relief = ReadRelief(sim.Child("relief", {"slope_deg", "fibre_deg", "height_map"}), base);
   sim.Checked([&] { s.Check(); });
   return s;
 }

@@ -76,7 +76,8 @@ struct CalibrationSpec {  // calibration:
 // .cameramodel (its size too).
 struct SimSpec {  // sim:
   std::vector<std::string> materials;
-  SampleKind sample = SampleKind::kCard;  // sim.sample: the layout of the materials
+  SampleKind sample = SampleKind::kCard;  // sim.sample: the layout of the materials, built in
+  std::optional<SampleFile> sample_file;  // or sim.sample: {labels|weights: FILE}
   std::uint64_t seed = 1;
   double light_intensity = 2e5;
   double time_scale = 10;
@@ -92,9 +93,11 @@ struct SimSpec {  // sim:
   std::optional<Eigen::Vector3d> light_rgb;
   // sim.relief: {slope_deg: S, fibre_deg: F}: the card embossed where it is printed and raised at
   // its border, edges of steepest slope S degrees, with paper-fibre noise of RMS slope F
-  // (sim/relief.h, issue 19); unset: flat.
+  // (sim/relief.h, issue 19); or {height_map: FILE}: heights from a file of the sample layout's
+  // size (sim::ReadHeightMap); unset: flat.
   struct Relief {
     double slope_deg = 10, fibre_deg = 0;
+    std::string height_map;  // resolved; empty: the built-in relief
   };
   std::optional<Relief> relief;
   void Check() const;

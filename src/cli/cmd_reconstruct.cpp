@@ -60,22 +60,21 @@ NormalSearchMethod NormalSearchMethodFrom(const Args& args, NormalSearchMethod f
 sim::MixedSample SampleFrom(const Args& args, const std::vector<std::string>& names, int w, int h,
                             const sim::ObservationOptions& o) {
   const double size = o.geometry.sample_size_mm;
-  std::optional<sim::MixedSample> from_file;
   if (args.Has("sample-labels") && args.Has("sample-weights"))
     throw UserError("--sample-labels", "give a label image or a weight image, not both");
-  if (args.Has("sample-labels"))
-    from_file = sim::ReadSampleLabels(args.Get("sample-labels"), int(names.size()), size);
-  if (args.Has("sample-weights"))
-    from_file = sim::ReadSampleWeights(args.Get("sample-weights"), names, size);
-  if (from_file) {
-    if (args.Has("size") && (from_file->layout.width != w || from_file->layout.height != h))
-      throw UserError(
-          args.Has("sample-labels") ? args.Get("sample-labels") : args.Get("sample-weights"),
-          "the sample file is " + std::to_string(from_file->layout.width) + "x" +
-              std::to_string(from_file->layout.height) + " pixels but --size says " +
-              args.Get("size"),
-          "leave out --size: the file's size is used");
-    return *from_file;
+  if (args.Has("sample-labels") || args.Has("sample-weights")) {
+    const SampleFile file =
+        args.Has("sample-labels")
+            ? SampleFile{SampleFile::Kind::kLabels, args.Get("sample-labels")}
+            : SampleFile{SampleFile::Kind::kWeights, args.Get("sample-weights")};
+    sim::MixedSample from_file = sim::ReadSampleFile(file, names, size);
+    if (args.Has("size") && (from_file.layout.width != w || from_file.layout.height != h))
+      throw UserError(file.path,
+                      "the sample file is " + std::to_string(from_file.layout.width) + "x" +
+                          std::to_string(from_file.layout.height) + " pixels but --size says " +
+                          args.Get("size"),
+                      "leave out --size: the file's size is used");
+    return from_file;
   }
   const std::string kind = args.Get("sample", "card");
   const std::optional<SampleKind> k = ParseSampleKind(kind);
@@ -104,7 +103,8 @@ void AddRelief(const Args& args, sim::SyntheticSvbrdf* layout) {
     throw UserError("--height-map", "give --relief-deg or --height-map, not both");
   std::vector<float> height;
   if (args.Has("height-map")) {
-    height = sim::ReadHeightMap(args.Get("height-map"), layout->width, layout->height, 8.0);
+    height = sim::ReadHeightMap(args.Get("height-map"), layout->width, layout->height,
+                                sim::kPngHeightFullScalePx);
   } else if (args.Has("relief-deg") || args.Has("fibre-deg")) {
     sim::ReliefOptions relief;
     relief.slope_deg = args.GetDouble("relief-deg", 0, 0, 59.9);

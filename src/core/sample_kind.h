@@ -36,4 +36,14 @@ inline std::optional<SampleKind> ParseSampleKind(const std::string& name) {
   return std::nullopt;
 }
 
+// A sample laid out from a file the user describes it with (sim/sample_layouts.h): a label
+// image (each pixel a material's index) or a weight image (one plane per material, named as it).
+// `acq reconstruct synthetic --sample-labels|--sample-weights` and a plan's
+// `sim.sample: {labels|weights: FILE}` both name one.
+struct SampleFile {
+  enum class Kind { kLabels, kWeights };
+  Kind kind = Kind::kLabels;
+  std::string path;
+};
+
 }  // namespace acq

@@ -22,6 +22,7 @@
 #include "session/dry_run.h"
 #include "session/preview.h"
 #include "session/run.h"
+#include "session/sim_instrument.h"
 #include "session/truth_score.h"
 #include "sim/environment.h"
 #include "sim/instrument.h"
@@ -39,42 +40,6 @@ class UsbGantry : public ProtocolGantry {
  private:
   std::unique_ptr<UsbTransport> transport_;
 };
-
-// The simulated instrument's options, from the plan.
-sim::InstrumentOptions InstrumentOptionsOf(const Plan& plan) {
-  sim::InstrumentOptions o;
-  o.material_files = plan.sim.materials;
-  o.sample = plan.sim.sample;
-  o.sample_size_mm = plan.sample.width_mm;
-  o.camera_distance_mm = plan.gantry.camera_distance_mm;
-  o.light_distance_mm = plan.gantry.light_distance_mm;
-  o.light_intensity = plan.sim.light_intensity;
-  o.board = {plan.calibration.board_width_n, plan.calibration.board_height_n,
-             plan.calibration.board_spacing_mm};
-  o.held_board_poses = plan.calibration.intrinsics_captures;
-  o.camera_model_file = plan.sim.camera_model;
-  o.image_width = plan.sim.image_width;
-  o.image_height = plan.sim.image_height;
-  o.camera_filter = plan.sim.camera_filter.value_or(CfaOf(plan.camera.settings.pixel_format));
-  o.light_rgb = plan.sim.light_rgb;
-  if (plan.sim.relief) {
-    sim::ReliefOptions relief;
-    relief.slope_deg = plan.sim.relief->slope_deg;
-    relief.fibre_deg = plan.sim.relief->fibre_deg;
-    relief.seed = plan.sim.seed;
-    o.relief = relief;
-  }
-  o.firmware.axis = plan.gantry.motion.theta;
-  o.firmware.settle_s = plan.gantry.motion.settle_s;
-  o.firmware.limits = plan.gantry.motion.constraints;
-  o.usb.vendor_id = plan.gantry.usb.vendor_id;
-  o.usb.product_id = plan.gantry.usb.product_id;
-  o.usb.serial = plan.gantry.usb.serial.empty() ? "SIM-0001" : plan.gantry.usb.serial;
-  o.usb.time_scale = plan.sim.time_scale;
-  o.seed = plan.sim.seed;
-  o.where = plan.path;
-  return o;
-}
 
 // The instrument's devices through their real drivers: the gantry on USB, the camera on GigE
 // Vision (the simulated instrument's, where `instrument` is given).
@@ -144,6 +109,9 @@ int Run(int argc, char** argv) {
 
   const Plan plan = LoadPlan(session);
   CheckSessionInputs(plan);
+  // The simulated sample's files (a label or weight image, a height map) read and checked
+  // before the dry run answers and before anything moves.
+  if (plan.backend == Backend::kSim) InstrumentOptionsOf(plan).Check();
   if (dry_run) {
     std::fputs(DryRunText(plan).c_str(), stdout);
     return 0;

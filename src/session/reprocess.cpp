@@ -134,9 +134,21 @@ void ReprocessOptions::Check() const {
 
 namespace {
 
+// Where a refusal of the scratch plan lies for the user: the --set that names the refused key
+// (the captured plan was checked when it was captured, so a refusal comes from a setting).
+std::string SettingRefused(const UserError& e, const std::vector<std::string>& settings) {
+  for (const std::string& s : settings) {
+    const std::string key = s.substr(0, s.find('='));
+    if (!key.empty() && e.problem().find(key) != std::string::npos)
+      return "acq session process --set " + s;
+  }
+  return "acq session process --set";
+}
+
 // The plan as it will be processed, loaded (and so checked) from a scratch copy before any file
 // is written: a refused setting leaves no half-made output behind.
-Plan CheckedPlan(const std::string& text, const std::string& folder) {
+Plan CheckedPlan(const std::string& text, const std::string& folder,
+                 const std::vector<std::string>& settings) {
   const fs::path scratch =
       fs::temp_directory_path() / ("acq-session-process-" + std::to_string(getpid()));
   fs::create_directories(scratch);
@@ -146,6 +158,11 @@ Plan CheckedPlan(const std::string& text, const std::string& folder) {
     Plan plan = LoadPlan(path, folder);
     fs::remove_all(scratch);
     return plan;
+  } catch (const UserError& e) {
+    fs::remove_all(scratch);
+    // The scratch file is gone and was never the user's: name the setting instead.
+    if (e.where().rfind(path, 0) != 0) throw;
+    throw UserError(SettingRefused(e, settings), e.problem(), e.fix());
   } catch (...) {
     fs::remove_all(scratch);
     throw;
@@ -163,7 +180,7 @@ ReprocessResult ReprocessSession(const ReprocessOptions& options) {
       PlanWithSettings(options.session + "/plan.yaml", options.settings, target);
   // What was captured cannot change after the fact: refused before anything is written.
   const std::vector<std::string> capture =
-      CaptureDifferences(CheckedPlan(text, folder), options.session);
+      CaptureDifferences(CheckedPlan(text, folder, options.settings), options.session);
   if (!capture.empty()) {
     std::string listed;
     for (const std::string& c : capture) listed += (listed.empty() ? "" : "; ") + c;

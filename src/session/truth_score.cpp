@@ -1,5 +1,7 @@
 #include "session/truth_score.h"
 
+#include "session/sim_instrument.h"
+
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
@@ -57,8 +59,7 @@ TruthAtPixels TruthOfMap(const Plan& plan, const sim::GroundTruthFiles& truth_fi
                          const ProcessReport& process) {
   TruthAtPixels t;
   const bool colour = CfaOf(plan.camera.settings.pixel_format) != Cfa::kNone;
-  t.materials = sim::TruthTables(plan.sim.materials, colour, plan.sim.sample, plan.sample.width_mm,
-                                 plan.sim.seed);
+  t.materials = sim::TruthTables(InstrumentOptionsOf(plan), colour);
   // Where each map pixel lies on the sample: computed here, for scoring only (2 s of mrcal's
   // unprojection at 2048 x 2048, not the processing's to spend).
   const calib::ReferenceView reference = ReferenceViewOf(plan, process.calibration.camera);
