@@ -192,6 +192,36 @@ TEST_CASE("plan fuzz: 1,000 mutations refused with a place or accepted sane", "[
   CHECK(accepted > 50);
 }
 
+TEST_CASE("plan record: a sample file or height map whose content changed is refused, and kept",
+          "[plan]") {
+  const test::TempDir tmp;
+  const std::string basis = tmp / "basis.acqb";
+  std::ofstream(basis) << "a basis";
+  // The loader checks only that the files exist (acqd reads them when it builds the instrument);
+  // the record hashes their bytes, so any content will do here.
+  std::ofstream(tmp / "labels.png") << "labels, first version";
+  std::ofstream(tmp / "height.png") << "heights";
+  const std::string path = tmp / "plan.yaml";
+  std::ofstream(path) << GoodPlan(basis)
+                      << "  sample: {labels: labels.png}\n  relief: {height_map: height.png}\n";
+  const std::string session = tmp / "session";
+  SessionCatalog catalog(session);
+  CHECK(RecordOrCheckPlan(LoadPlan(path), session, catalog).first_run);
+  // Kept with the session, as the materials are: what the frames were rendered from.
+  CHECK(fs::exists(session + "/plan_files/labels.png"));
+  CHECK(fs::exists(session + "/plan_files/height.png"));
+  CHECK_FALSE(RecordOrCheckPlan(LoadPlan(path), session, catalog).first_run);
+  // Same names, other bytes: a resume would mix two samples in one map.
+  std::ofstream(tmp / "labels.png", std::ios::trunc) << "labels, second version";
+  CHECK_THROWS_WITH(
+      RecordOrCheckPlan(LoadPlan(path), session, catalog),
+      Catch::Contains("change what is captured") && Catch::Contains("sim.sample.labels: sha256:"));
+  std::ofstream(tmp / "labels.png", std::ios::trunc) << "labels, first version";
+  std::ofstream(tmp / "height.png", std::ios::trunc) << "other heights";
+  CHECK_THROWS_WITH(RecordOrCheckPlan(LoadPlan(path), session, catalog),
+                    Catch::Contains("sim.relief.height_map: sha256:"));
+}
+
 TEST_CASE("plan record: a capture setting changed is refused, a processing one recorded",
           "[plan]") {
   const test::TempDir tmp;

@@ -112,6 +112,8 @@ void CopyPlanFiles(const Plan& plan, const std::string& session) {
   std::vector<std::string> files = {plan.directions_file, plan.validation_file,
                                     plan.calibration.intrinsics_file};
   files.insert(files.end(), plan.sim.materials.begin(), plan.sim.materials.end());
+  if (plan.sim.sample_file) files.push_back(plan.sim.sample_file->path);
+  if (plan.sim.relief) files.push_back(plan.sim.relief->height_map);
   std::error_code ec;
   fs::create_directories(session + "/plan_files", ec);
   for (const std::string& f : files) {
@@ -156,7 +158,10 @@ std::vector<PlanSetting> PlanSettings(const Plan& plan) {
     for (std::size_t i = 0; i < plan.sim.materials.size(); ++i)
       s.Capture("sim.materials[" + std::to_string(i + 1) + "]", FileValue(plan.sim.materials[i]));
     s.Capture("sim.seed", std::to_string(plan.sim.seed));
-    if (plan.sim.sample != SampleKind::kCard)
+    if (const std::optional<SampleFile>& f = plan.sim.sample_file)
+      s.Capture(f->kind == SampleFile::Kind::kLabels ? "sim.sample.labels" : "sim.sample.weights",
+                FileValue(f->path));
+    else if (plan.sim.sample != SampleKind::kCard)
       s.Capture("sim.sample", SampleKindName(plan.sim.sample));
     s.Capture("sim.light_intensity", Number(plan.sim.light_intensity));
     // The simulated sensor's filter and light change every frame (a resume with another would
@@ -166,8 +171,12 @@ std::vector<PlanSetting> PlanSettings(const Plan& plan) {
     if (filter != Cfa::kNone) s.Capture("sim.camera_filter", CfaName(filter));
     if (const auto& rgb = plan.sim.light_rgb)
       s.Capture("sim.light_rgb", Numbers({rgb->x(), rgb->y(), rgb->z()}));
-    if (const auto& relief = plan.sim.relief)
-      s.Capture("sim.relief", Numbers({relief->slope_deg, relief->fibre_deg}));
+    if (const auto& relief = plan.sim.relief) {
+      if (!relief->height_map.empty())
+        s.Capture("sim.relief.height_map", FileValue(relief->height_map));
+      else
+        s.Capture("sim.relief", Numbers({relief->slope_deg, relief->fibre_deg}));
+    }
   }
   // Processing only: the frames stay what they are.
   // The colour matrix is applied to the HDR images when processing (a camera characterised
