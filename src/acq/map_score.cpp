@@ -121,6 +121,7 @@ NormalScore ScoreNormals(const SvbrdfMap& map, const std::vector<Eigen::Vector3f
                                         " labels for a map of " + std::to_string(w) + " x " +
                                         std::to_string(h) + " pixels");
   std::vector<double> relief, assumed, flat, one_material, ink_edges;
+  std::vector<std::vector<double>> flat_by_material;
   NormalScore score;
   score.error_deg.resize(truth.size());
   for (int y = 0; y < h; ++y)
@@ -134,7 +135,14 @@ NormalScore ScoreNormals(const SvbrdfMap& map, const std::vector<Eigen::Vector3f
       const double tilt = NormalAngle(t, Eigen::Vector3f::UnitZ());
       const double error = RadToDeg(NormalAngle(t, got.normalized()));
       score.error_deg[std::size_t(y) * w + x] = float(error);
-      if (tilt < DegToRad(0.05)) flat.push_back(error);
+      if (tilt < DegToRad(0.05)) {
+        flat.push_back(error);
+        const int label = labels.empty() ? -1 : labels[std::size_t(y) * w + x];
+        if (label >= 0) {
+          if (flat_by_material.size() <= std::size_t(label)) flat_by_material.resize(label + 1);
+          flat_by_material[std::size_t(label)].push_back(error);
+        }
+      }
       if (!(tilt > DegToRad(0.5))) continue;
       relief.push_back(error);
       assumed.push_back(RadToDeg(tilt));
@@ -146,6 +154,8 @@ NormalScore ScoreNormals(const SvbrdfMap& map, const std::vector<Eigen::Vector3f
   score.median_tilt_deg_flat = MedianOrNan(flat);
   score.median_error_deg_relief_one_material = MedianOrNan(one_material);
   score.median_error_deg_relief_ink_edges = MedianOrNan(ink_edges);
+  for (const std::vector<double>& m : flat_by_material)
+    score.material_median_tilt_deg_flat.push_back(MedianOrNan(m));
   score.relief_pixels = long(relief.size());
   score.flat_pixels = long(flat.size());
   score.relief_pixels_one_material = long(one_material.size());

@@ -43,6 +43,10 @@ struct NormalScore {
   // embossed print is steepest where its ink ends).
   double median_error_deg_relief_one_material = 0, median_error_deg_relief_ink_edges = 0;
   long relief_pixels_one_material = 0, relief_pixels_ink_edges = 0;
+  // With labels, per true material (by label): the median false tilt over its flat pixels (NaN
+  // where it has none). A search that tilts one material's flat patch shows here, where the
+  // median over the whole sample hides it.
+  std::vector<double> material_median_tilt_deg_flat;
   std::vector<float> error_deg;  // per map pixel, row-major: the estimate's angle to the truth
 };
 // How far (map pixels) another material makes a pixel an ink edge's: a view 65 degrees off the

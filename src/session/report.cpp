@@ -188,6 +188,12 @@ std::string SessionReport::Json() const {
         {"relief_pixels_ink_edges", normals->relief_pixels_ink_edges},
         {"relief_pixels", normals->relief_pixels},
         {"flat_pixels", normals->flat_pixels},
+        {"material_median_tilt_deg_flat",
+         [&] {
+           Json per = Json::array();
+           for (double v : normals->material_median_tilt_deg_flat) per.push_back(finite(v));
+           return per;
+         }()},
         {"refused", normals->refused},
         {"no_evidence", normals->no_evidence}};
   }
@@ -341,7 +347,13 @@ std::string TruthText(const SessionReport& s) {
                 s.alignment_median_px, s.alignment_max_px, s.board_eye_error_median_deg,
                 s.board_eye_error_max_deg);
   t << line;
-  if (const auto& n = s.normals) {
+  if (const auto& n = s.normals; n && n->relief_pixels == 0) {
+    std::snprintf(line, sizeof line,
+                  "  normals on a flat sample: false tilt %.2f deg median over %ld pixels; %ld "
+                  "refused, %ld without evidence\n",
+                  n->median_tilt_deg_flat, n->flat_pixels, n->refused, n->no_evidence);
+    t << line;
+  } else if (n) {
     std::snprintf(line, sizeof line,
                   "  normals against the relief: median error %.2f deg over it (%.2f assumed "
                   "flat; %.2f over %ld pixels of one material, %.2f over %ld at ink edges), false "
@@ -367,6 +379,13 @@ std::string TruthText(const SessionReport& s) {
                   m < s.materials.size() ? s.materials[m].c_str() : "", per_material[m],
                   m < s.homogeneous_log_rmse.size() ? s.homogeneous_log_rmse[m] : 0.0);
     t << line;
+    if (s.normals && m < s.normals->material_median_tilt_deg_flat.size() &&
+        std::isfinite(s.normals->material_median_tilt_deg_flat[m])) {
+      std::snprintf(line, sizeof line,
+                    "    normals: false tilt %.2f deg median on its flat pixels\n",
+                    s.normals->material_median_tilt_deg_flat[m]);
+      t << line;
+    }
     if (s.colour() && m < s.score.material_albedo_delta_e2000_median.size()) {
       std::snprintf(line, sizeof line,
                     "    diffuse colour: median CIEDE2000 %.2f over its pixels, %.2f of their "

@@ -53,7 +53,7 @@ std::vector<Eigen::Vector3f> FootprintNormals(const sim::SyntheticSvbrdf& card,
 struct TruthAtPixels {
   std::vector<MerlBrdf> materials;
   std::vector<int> labels;               // per map pixel, -1 off the card
-  std::vector<Eigen::Vector3f> normals;  // per map pixel; empty without relief
+  std::vector<Eigen::Vector3f> normals;  // per map pixel; empty without relief or a search
 };
 TruthAtPixels TruthOfMap(const Plan& plan, const sim::GroundTruthFiles& truth_files,
                          const ProcessReport& process) {
@@ -67,6 +67,10 @@ TruthAtPixels TruthOfMap(const Plan& plan, const sim::GroundTruthFiles& truth_fi
   for (const Eigen::Vector3d& p : points) t.labels.push_back(truth_files.card.LabelAt(p.head<2>()));
   if (!truth_files.card.normal.empty())
     t.normals = FootprintNormals(truth_files.card, points, reference.width, reference.height);
+  else if (process.reconstruction.normals_searched)
+    // A flat sample searched for normals: every estimated tilt is false tilt, which the report
+    // must show as it does on a relief's flat areas.
+    t.normals.assign(points.size(), Eigen::Vector3f::UnitZ());
   return t;
 }
 
@@ -95,7 +99,8 @@ void ScoreMapAgainstTruth(const Plan& plan, const std::string& dir, const Svbrdf
     }
     error.attributes["meaning"] +=
         "; normal_error_deg: the estimated normal's angle to the true one (degrees); "
-        "true_normal: the mean of the relief's normals over the pixel (sample frame)";
+        "true_normal: the mean of the relief's normals over the pixel (sample frame; +z on a "
+        "flat sample)";
   }
   WriteFloatPlanesExr(dir + "/ground_truth/error.exr", error);
   std::vector<double> homogeneous;
