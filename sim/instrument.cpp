@@ -1,6 +1,7 @@
 #include "sim/instrument.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 
@@ -19,6 +20,12 @@ calib::CameraModel FramingPinhole(const InstrumentOptions& o) {
   const int w = o.image_width, h = o.image_height;
   const double f = 0.8 * std::min(w, h) * o.camera_distance_mm / o.sample_size_mm;
   return calib::CameraModel("LENSMODEL_PINHOLE", {f, f, (w - 1) / 2.0, (h - 1) / 2.0}, w, h);
+}
+
+std::string Millimetres(double mm) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.4g", mm);
+  return text;
 }
 
 std::vector<std::string> MaterialNames(const std::vector<std::string>& material_files) {
@@ -67,8 +74,20 @@ void InstrumentOptions::Check() const {
     throw UserError(where, "both a built-in relief and a height map", "give one of them");
   if (relief) relief->Check();
   // The sample's files read now (cheap: a layout, not the materials), their errors named.
-  if (sample_file || !height_map_file.empty())
-    InstrumentRelief(*this, InstrumentSample(*this).layout);
+  if (!sample_file && height_map_file.empty()) return;
+  const SyntheticSvbrdf layout = InstrumentSample(*this).layout;
+  InstrumentRelief(*this, layout);
+  // A file spans the sample's width with square pixels: another shape than the plan's sample
+  // leaves part of the sample without material, or puts material off it.
+  const double file_height_mm = sample_size_mm * layout.height / layout.width;
+  if (sample_file && sample_height_mm > 0 &&
+      std::abs(file_height_mm - sample_height_mm) > 0.01 * sample_height_mm)
+    throw UserError(sample_file->path,
+                    "is " + std::to_string(layout.width) + "x" + std::to_string(layout.height) +
+                        " pixels: across the sample's " + Millimetres(sample_size_mm) +
+                        " mm it is " + Millimetres(file_height_mm) + " mm high, the sample " +
+                        Millimetres(sample_height_mm) + " mm",
+                    "give a file of the sample's shape (sample.size_mm), its pixels square");
 }
 
 Instrument::Instrument(const InstrumentOptions& options) : options_(options) {

@@ -73,8 +73,9 @@ expect "relief too steep" 1 steep_relief.yaml --dry-run -- \
 /usr/bin/python3 - "$tmp" <<'PY'
 import sys, numpy, cv2
 d = sys.argv[1]
-labels = numpy.zeros((64, 48), numpy.uint8); labels[10:20, 5:40] = 1
+labels = numpy.zeros((48, 48), numpy.uint8); labels[10:20, 5:40] = 1
 cv2.imwrite(d + "/labels.png", labels)
+cv2.imwrite(d + "/labels_tall.png", numpy.zeros((64, 48), numpy.uint8))
 cv2.imwrite(d + "/height.png", (labels * 4000).astype(numpy.uint16))
 cv2.imwrite(d + "/small_height.png", numpy.zeros((32, 32), numpy.uint16))
 labels[30, 7] = 2  # the plan lists two materials: label 2 names none
@@ -82,7 +83,9 @@ cv2.imwrite(d + "/labels_unlisted.png", labels)
 PY
 expect "sample and relief from files" 0 sample_file.yaml --dry-run -- "estimated capture time"
 expect "height map of another size than the sample" 1 height_wrong_size.yaml --dry-run -- \
-  "small_height.png" "the height map is 32x32, the sample 48x64"
+  "small_height.png" "the height map is 32x32, the sample 48x48"
+expect "sample file of another shape than the sample" 1 sample_shape.yaml --dry-run -- \
+  "labels_tall.png" "is 48x64 pixels: across the sample's 40 mm it is 53.33 mm high, the sample 40 mm"
 expect "label naming no listed material" 1 sample_label_unlisted.yaml --dry-run -- \
   "labels_unlisted.png" "pixel (7, 30) has label 2 but only 2 materials are given"
 expect "labels and weights both" 1 sample_both.yaml --dry-run -- \

@@ -468,7 +468,7 @@ std::vector<std::string> ReadSimMaterials(const YAML::Node& root, const Section&
 // sim.sample: {labels: FILE} or {weights: FILE} (docs/session-and-plan.md); the file's contents
 // are checked against the materials when the simulated instrument is built (acqd does so
 // before its dry run answers).
-SampleFile ReadSampleFile(const Section& sim, const std::string& base) {
+SampleFile ReadSimSampleFile(const Section& sim, const std::string& base) {
   const Section sample = sim.Child("sample", {"labels", "weights"});
   if (sample.Has("labels") == sample.Has("weights"))
     throw UserError(sim.Where("sample"), "sim.sample needs one of labels and weights",
@@ -516,7 +516,7 @@ SimSpec ReadSim(const YAML::Node& root, const Section& top, const std::string& b
   SimSpec s;
   if (backend == Backend::kSim) s.materials = ReadSimMaterials(root, sim, base);
   if (sim.HasMap("sample")) {
-    s.sample_file = ReadSampleFile(sim, base);
+    s.sample_file = ReadSimSampleFile(sim, base);
   } else if (sim.Has("sample")) {
     const std::optional<SampleKind> kind = ParseSampleKind(sim.Text("sample"));
     if (!kind)

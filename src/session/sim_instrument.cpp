@@ -10,6 +10,7 @@ sim::InstrumentOptions InstrumentOptionsOf(const Plan& plan) {
   o.sample = plan.sim.sample;
   o.sample_file = plan.sim.sample_file;
   o.sample_size_mm = plan.sample.width_mm;
+  o.sample_height_mm = plan.sample.height_mm;
   o.camera_distance_mm = plan.gantry.camera_distance_mm;
   o.light_distance_mm = plan.gantry.light_distance_mm;
   o.light_intensity = plan.sim.light_intensity;
