@@ -29,8 +29,8 @@ struct InstrumentOptions {
   SampleKind sample = SampleKind::kCard;    // how the materials are laid out (sample_layouts.h)
   std::optional<SampleFile> sample_file;    // or a file lays them out (overrides `sample`)
   double sample_size_mm = 70;               // the card's side; a file's: its width, square pixels
-  double sample_height_mm =
-      0;  // the plan's sample height: a file's shape must agree (0: unchecked)
+  // The plan's sample height: a file's shape must agree with it (0: unchecked).
+  double sample_height_mm = 0;
   double camera_distance_mm = 1000, light_distance_mm = 1000;
   double light_intensity = 2e5;  // the renderer's units x mm^2
   calib::BoardSpec board{10, 10, 20};

@@ -474,13 +474,14 @@ SampleFile ReadSimSampleFile(const Section& sim, const std::string& base) {
     throw UserError(sim.Where("sample"), "sim.sample needs one of labels and weights",
                     "{labels: FILE} (each pixel a material's index in sim.materials) or "
                     "{weights: FILE.exr} (one plane per material)");
-  const std::string key = sample.Has("labels") ? "labels" : "weights";
+  const bool labels = sample.Has("labels");
+  const std::string key = labels ? "labels" : "weights";
   SampleFile f;
-  f.kind = key == "labels" ? SampleFile::Kind::kLabels : SampleFile::Kind::kWeights;
+  f.kind = labels ? SampleFile::Kind::kLabels : SampleFile::Kind::kWeights;
   f.path = Resolve(base, sample.Text(key));
   RequireFile(sample, key, f.path,
-              key == "labels" ? "a grey PNG or an EXR with a 'label' plane"
-                              : "an EXR with one plane per material, named as the material");
+              labels ? "a grey PNG or an EXR with a 'label' plane"
+                     : "an EXR with one plane per material, named as the material");
   return f;
 }
 
