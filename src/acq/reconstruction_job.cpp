@@ -137,7 +137,8 @@ ReconstructionReport Reconstruct(const BasisView& basis, ObservationSource& sour
   if (pooled || centre_normals) {
     const PixelObservations sample = ReadSample(source, options);
     if (centre_normals)
-      normals_reference = FitNormalReference(basis, sample, options.solve, options.pooled);
+      normals_reference =
+          FitNormalReference(basis, sample, options.solve, options.pooled, options.normals);
     // The model is fitted on the sample as read, its observations taken as flat: fitted on them
     // turned into their estimated normals, a few wrong ones scattered the groups until every
     // trial merged back into one (the embossed card through acqd: 1 group, black fabric 1.17

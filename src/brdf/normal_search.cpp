@@ -161,6 +161,12 @@ bool TiltEarnsItsKeep(const Candidate& flat, const Candidate& best, double evide
 // Criterion kCentre: each pixel's candidate groups (the kCentreGroups nearest to its flat
 // independent solve in the model's feature space).
 constexpr int kCentreGroups = 3;
+// FitNormalReference: a group is a larger group's relief (or an edge of it) when the larger
+// group's centre, tilted, explains its pixels better than its own centre does flat: the ratio
+// of their misfits under 1. Measured through acqd (docs/reconstruction.md, "The reference's
+// groups are materials"): the pieces taken out lay at 0.14-0.96, the materials kept at 4.9 and
+// more, a piece of white paint cut by its drift across the field at 1.43.
+constexpr double kReliefRatio = 1;
 std::vector<std::vector<int>> NearestGroups(const BasisView& basis, const PixelObservations& obs,
                                             int first, int count, const PooledModel& model,
                                             const PixelSolveOptions& solve) {
@@ -597,21 +603,6 @@ ChunkSearch SearchChunk(const BasisView& basis, const PixelObservations& obs, in
 
 }  // namespace
 
-PooledModel FitNormalReference(const BasisView& basis, const PixelObservations& sample,
-                               const PixelSolveOptions& solve, const PooledOptions& pooled) {
-  PooledOptions reference = pooled;
-  reference.centre_eta_fractions = {1, 1.0 / 4, 1.0 / 16, 1.0 / 64, 1.0 / 256};
-  // Every pixel alike: a candidate normal is judged by how well the centre predicts the pixel's
-  // own directions, wherever on the sample it lies, not the grid's error the plan's directions
-  // were chosen for (weighted to them, the study's card at 4 degrees: normals over the relief
-  // 2.16 against 1.08 degrees, false tilt 0.76 against 0.59).
-  reference.design_sigma_deg = 0;
-  reference.merge_in_field = false;
-  reference.search_past_merges = false;
-  reference.leave_out_colour_fringes = false;
-  return FitPooledModel(basis, sample, solve, reference);
-}
-
 PixelNormals EstimateNormals(const BasisView& basis, PixelObservations* obs,
                              const PixelSolveOptions& solve, const NormalSearchOptions& o,
                              const PooledModel* reference) {
@@ -654,6 +645,109 @@ PixelNormals EstimateNormals(const BasisView& basis, PixelObservations* obs,
     }
   }
   return out;
+}
+
+namespace {
+
+// Each sample pixel's group in the reference: the nearest to its flat independent solve, as the
+// search picks its candidates; members per group.
+std::vector<std::vector<int>> ReferenceMembers(const BasisView& basis,
+                                               const PixelObservations& sample,
+                                               const PooledModel& model,
+                                               const PixelSolveOptions& solve, int chunk) {
+  std::vector<std::vector<int>> members(model.groups.size());
+  for (int first = 0; first < sample.pixels; first += chunk) {
+    const int count = std::min(chunk, sample.pixels - first);
+    const std::vector<std::vector<int>> nearest =
+        NearestGroups(basis, sample, first, count, model, solve);
+    for (int p = 0; p < count; ++p)
+      if (!nearest[std::size_t(p)].empty())
+        members[std::size_t(nearest[std::size_t(p)][0])].push_back(first + p);
+  }
+  return members;
+}
+
+// Each pixel's misfit (RMS, log space) to group g's centre alone: at the best normal the search
+// finds, or at the sample's normal (`flat`); infinite where none is usable.
+std::vector<double> MisfitsTo(const BasisView& basis, const PixelObservations& pixels,
+                              const PooledModel& model, int g, bool flat,
+                              const PixelSolveOptions& solve, const NormalSearchOptions& search) {
+  PooledModel alone = model;
+  alone.groups = {model.groups[std::size_t(g)]};
+  std::vector<double> misfit;
+  for (int first = 0; first < pixels.pixels; first += search.chunk_pixels) {
+    const int count = std::min(search.chunk_pixels, pixels.pixels - first);
+    const ChunkSearch c = SearchChunk(basis, pixels, first, count, solve, search, &alone);
+    for (int p = 0; p < count; ++p) misfit.push_back(flat ? c.flat[p].misfit : c.best[p].misfit);
+  }
+  return misfit;
+}
+
+// The median over the pixels of a's misfit at their best normals over b's at the sample's.
+double MedianRatio(const std::vector<double>& a, const std::vector<double>& b) {
+  std::vector<double> ratio;
+  for (std::size_t p = 0; p < a.size(); ++p)
+    if (std::isfinite(a[p]) && std::isfinite(b[p]) && b[p] > 0) ratio.push_back(a[p] / b[p]);
+  return ratio.empty() ? std::numeric_limits<double>::infinity() : Median(ratio);
+}
+
+// Takes out of the reference each group that is a larger group's relief: one whose pixels the
+// larger group's centre, at the normals the search finds for them, explains better (median
+// misfit ratio under kReliefRatio) than the group's own centre does at the sample's normal.
+// Returns how many went.
+int DropReliefGroups(const BasisView& basis, const PixelObservations& sample,
+                     const PixelSolveOptions& solve, const NormalSearchOptions& search,
+                     PooledModel* model) {
+  const std::size_t groups = model->groups.size();
+  const std::vector<std::vector<int>> members =
+      ReferenceMembers(basis, sample, *model, solve, search.chunk_pixels);
+  std::vector<int> order(groups);
+  for (std::size_t g = 0; g < groups; ++g) order[g] = int(g);
+  std::stable_sort(order.begin(), order.end(),
+                   [&](int a, int b) { return members[a].size() > members[b].size(); });
+  std::vector<char> keep(groups, 1);
+  for (std::size_t i = 1; i < groups; ++i) {
+    const int b = order[i];
+    if (members[b].empty()) continue;
+    const PixelObservations pixels = sample.Gather(members[b]);
+    const std::vector<double> own = MisfitsTo(basis, pixels, *model, b, true, solve, search);
+    for (std::size_t j = 0; j < i && keep[b]; ++j) {
+      const int a = order[j];
+      if (!keep[a]) continue;
+      const std::vector<double> by_a = MisfitsTo(basis, pixels, *model, a, false, solve, search);
+      if (MedianRatio(by_a, own) < kReliefRatio) keep[b] = 0;
+    }
+  }
+  std::vector<PooledGroup> kept;
+  for (std::size_t g = 0; g < groups; ++g)
+    if (keep[g]) kept.push_back(std::move(model->groups[g]));
+  model->groups = std::move(kept);
+  return int(groups - model->groups.size());
+}
+
+}  // namespace
+
+PooledModel FitNormalReference(const BasisView& basis, const PixelObservations& sample,
+                               const PixelSolveOptions& solve, const PooledOptions& pooled,
+                               const NormalSearchOptions& search) {
+  PooledOptions reference = pooled;
+  reference.centre_eta_fractions = {1, 1.0 / 4, 1.0 / 16, 1.0 / 64, 1.0 / 256};
+  // Every pixel alike: a candidate normal is judged by how well the centre predicts the pixel's
+  // own directions, wherever on the sample it lies, not the grid's error the plan's directions
+  // were chosen for (weighted to them, the study's card at 4 degrees: normals over the relief
+  // 2.16 against 1.08 degrees, false tilt 0.76 against 0.59).
+  reference.design_sigma_deg = 0;
+  reference.merge_in_field = false;
+  reference.leave_out_colour_fringes = false;
+  // The number of groups is searched past merges, as for the map's model: a search stopped at
+  // them left a flat pink-jasper patch merged into the white paint around it, and tilted
+  // (docs/reconstruction.md, "The reference's groups are materials"). The groups that are a
+  // material's relief are taken out after.
+  PooledModel model = FitPooledModel(basis, sample, solve, reference);
+  // A number of groups the user forced is kept as fitted.
+  if (pooled.groups <= 0 && model.groups.size() > 1 && search.enabled)
+    DropReliefGroups(basis, sample, solve, search, &model);
+  return model;
 }
 
 }  // namespace acq

@@ -122,9 +122,14 @@ struct PixelNormals {
 // one pixel is (eta) leaves a residual at grazing views that a tilt of 1-2 degrees absorbs (a
 // dark fabric at 4 degrees: 1 degree of false tilt, its map 0.85 against 0.50 flat); one
 // barely regularised extrapolates wildly to the directions a tilted candidate asks about. Its
-// centres weigh every pixel alike (PooledOptions::design_sigma_deg 0).
+// centres weigh every pixel alike (PooledOptions::design_sigma_deg 0). The groups must be
+// materials: the number of groups is searched past merges, as for the map's model, and then
+// each group whose pixels a larger group's centre explains better tilted (by `search`) than its
+// own centre does flat is that group's relief and is taken out (unless the number of groups is
+// forced, or the search is off).
 PooledModel FitNormalReference(const BasisView& basis, const PixelObservations& sample,
-                               const PixelSolveOptions& solve, const PooledOptions& pooled);
+                               const PixelSolveOptions& solve, const PooledOptions& pooled,
+                               const NormalSearchOptions& search);
 
 // Chooses every pixel's normal and rewrites `observations` into its facet's frame (pixels
 // refused, assumed or without evidence keep theirs), each candidate scored by

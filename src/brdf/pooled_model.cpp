@@ -768,8 +768,7 @@ PooledModel FitPooledModel(const BasisView& basis, const PixelObservations& samp
     // over relief: seeded 3, 4 and 6 each merged back to 2, differently; at 8 the small inks
     // got groups of their own and the map went from 0.707 to 0.319).
     const bool repeat = previous > 0 && size <= previous;
-    const bool counts_towards_end =
-        !repeat || !options.search_past_merges || SameGrouping(trial, previous_trial);
+    const bool counts_towards_end = !repeat || SameGrouping(trial, previous_trial);
     previous = size;
     previous_trial = trial;
     if (!repeat && rms < best * (1 - kGroupTolerance)) {

@@ -66,13 +66,6 @@ struct PooledOptions {
   // scatters are joined, drift and all (the rule before the field was used): the normal search's
   // reference (normal_search.h).
   bool merge_in_field = true;
-  // Whether the search for G goes on past trials whose groups merged back to a size already
-  // tried but were cut differently (k-means still spending its seeds on one widely scattered
-  // material). Off: every trial that merged back counts towards the search's end, as before
-  // 2026-12-04: the normal search's reference, whose groups must be materials and not a
-  // material's relief (on, a brass card's raised border got groups of its own, which explained
-  // its tilted pixels as flat: normals over the relief 1.26 -> 2.50 degrees).
-  bool search_past_merges = true;
   // Whether each centre leaves out the observations whose colour departs from their neighbours'
   // at the same view (colour_outliers.h: fringes at ink edges). Off: the normal search's
   // reference, whose observations are taken as flat, so that a tilted pixel's colour (a glossy
