@@ -83,12 +83,11 @@ std::array<double, 3> GroundTruth::Value(const DirectionPair& d) const {
 
 std::array<double, 3> GroundTruth::ValueOnFacet(const Eigen::Vector3f& n,
                                                 const DirectionPair& d) const {
-  const Eigen::Matrix3d r = FacetFromSample(n).cast<double>();
-  const DirectionPair facet{(r * d.in).normalized(), (r * d.out).normalized()};
-  if (facet.in.z() <= 0 || facet.out.z() <= 0) return {0, 0, 0};
-  std::array<double, 3> f = Value(facet);
-  for (double& v : f) v = std::max(v, 0.0) * facet.in.z() / d.in.z();
-  return f;
+  return SeenAsFlat(n, d.in, d.out, [this](const Eigen::Vector3d& in, const Eigen::Vector3d& out) {
+    std::array<double, 3> f = Value({in, out});
+    for (double& v : f) v = std::max(v, 0.0);
+    return f;
+  });
 }
 
 namespace {

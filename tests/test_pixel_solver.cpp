@@ -1089,6 +1089,33 @@ TEST_CASE("a tilted facet's observations, turned into its frame, are its BRDF th
   CHECK(compared > obs.pixels * obs.views / 2);
 }
 
+TEST_CASE(
+    "a facet's BRDF seen as if flat: the one rule the renderer, the renders and the scoring share",
+    "[normals]") {
+  // A facet BRDF that returns its facet-frame directions' z: what the rule turned them into.
+  const auto facet = [](const Eigen::Vector3d& in, const Eigen::Vector3d& out) {
+    return std::array<double, 3>{in.z(), out.z(), 1.0};
+  };
+  const Eigen::Vector3d in = Eigen::Vector3d(0.3, -0.2, 0.8).normalized();
+  const Eigen::Vector3d out = Eigen::Vector3d(-0.4, 0.1, 0.9).normalized();
+  // The sample's normal: the directions unchanged, the value unscaled.
+  const std::array<double, 3> flat = SeenAsFlat(Eigen::Vector3f::UnitZ(), in, out, facet);
+  CHECK(flat[0] == Approx(in.z()));
+  CHECK(flat[1] == Approx(out.z()));
+  CHECK(flat[2] == Approx(1.0));
+  // A tilted facet: the value at its frame's directions times n.l / l.z.
+  const Eigen::Vector3f n = NormalOfSlope(0.2f, -0.1f);
+  const std::array<double, 3> tilted = SeenAsFlat(n, in, out, facet);
+  const double n_l = n.cast<double>().dot(in), n_v = n.cast<double>().dot(out);
+  CHECK(tilted[0] == Approx(n_l * n_l / in.z()));
+  CHECK(tilted[1] == Approx(n_v * n_l / in.z()));
+  CHECK(tilted[2] == Approx(n_l / in.z()));
+  // A facet turned away from the light, or hidden from the camera: dark.
+  const Eigen::Vector3d grazing = Eigen::Vector3d(1, 0, 0.05).normalized();
+  CHECK(SeenAsFlat(NormalOfSlope(-0.5f, 0), grazing, out, facet)[2] == 0);
+  CHECK(SeenAsFlat(NormalOfSlope(-0.5f, 0), out, grazing, facet)[2] == 0);
+}
+
 TEST_CASE("the simulated camera renders a tilted facet as the synthetic observations measure it",
           "[normals]") {
   // acqd's simulated instrument (sample_renderer.h) and `acq reconstruct synthetic`

@@ -53,13 +53,10 @@ std::array<double, 3> MapBrdfAt(const SvbrdfMap& map, const BasisView& basis, in
     return BrdfFromCoefficients(basis, c.data(), map.info.components, in, out, lookup);
   const Eigen::Vector3f n(map.Plane("normal.x", x, y), map.Plane("normal.y", x, y),
                           map.Plane("normal.z", x, y));
-  const Eigen::Matrix3d r = FacetFromSample(n.normalized()).cast<double>();
-  const Eigen::Vector3d fi = (r * in).normalized(), fo = (r * out).normalized();
-  if (!(fi.z() > 0 && fo.z() > 0 && in.z() > 0)) return {0, 0, 0};
-  std::array<double, 3> rho =
-      BrdfFromCoefficients(basis, c.data(), map.info.components, fi, fo, lookup);
-  for (double& v : rho) v *= fi.z() / in.z();
-  return rho;
+  return SeenAsFlat(
+      n.normalized(), in, out, [&](const Eigen::Vector3d& fi, const Eigen::Vector3d& fo) {
+        return BrdfFromCoefficients(basis, c.data(), map.info.components, fi, fo, lookup);
+      });
 }
 
 RgbImage RenderView(const SvbrdfMap& map, const BasisView& basis, const ArmAngles& arms,
