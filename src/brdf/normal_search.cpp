@@ -698,6 +698,7 @@ double MedianRatio(const std::vector<double>& a, const std::vector<double>& b) {
 int DropReliefGroups(const BasisView& basis, const PixelObservations& sample,
                      const PixelSolveOptions& solve, const NormalSearchOptions& search,
                      PooledModel* model) {
+  search.Check(basis);
   const std::size_t groups = model->groups.size();
   const std::vector<std::vector<int>> members =
       ReferenceMembers(basis, sample, *model, solve, search.chunk_pixels);
