@@ -164,8 +164,8 @@ constexpr int kCentreGroups = 3;
 // FitNormalReference: a group is a larger group's relief (or an edge of it) when the larger
 // group's centre, tilted, explains its pixels better than its own centre does flat: the ratio
 // of their misfits under 1. Measured through acqd (docs/reconstruction.md, "The reference's
-// groups are materials"): the pieces taken out lay at 0.14-0.96, the materials kept at 4.9 and
-// more, a piece of white paint cut by its drift across the field at 1.43.
+// groups are materials"): the groups taken out lay at 0.14-0.96, the materials kept at 4.9 and
+// more, a second group of white paint on a flat card (by its size) at 1.43.
 constexpr double kReliefRatio = 1;
 std::vector<std::vector<int>> NearestGroups(const BasisView& basis, const PixelObservations& obs,
                                             int first, int count, const PooledModel& model,
@@ -694,10 +694,9 @@ double MedianRatio(const std::vector<double>& a, const std::vector<double>& b) {
 // Takes out of the reference each group that is a larger group's relief: one whose pixels the
 // larger group's centre, at the normals the search finds for them, explains better (median
 // misfit ratio under kReliefRatio) than the group's own centre does at the sample's normal.
-// Returns how many went.
-int DropReliefGroups(const BasisView& basis, const PixelObservations& sample,
-                     const PixelSolveOptions& solve, const NormalSearchOptions& search,
-                     PooledModel* model) {
+void DropReliefGroups(const BasisView& basis, const PixelObservations& sample,
+                      const PixelSolveOptions& solve, const NormalSearchOptions& search,
+                      PooledModel* model) {
   search.Check(basis);
   const std::size_t groups = model->groups.size();
   const std::vector<std::vector<int>> members =
@@ -723,7 +722,6 @@ int DropReliefGroups(const BasisView& basis, const PixelObservations& sample,
   for (std::size_t g = 0; g < groups; ++g)
     if (keep[g]) kept.push_back(std::move(model->groups[g]));
   model->groups = std::move(kept);
-  return int(groups - model->groups.size());
 }
 
 }  // namespace
