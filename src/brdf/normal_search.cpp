@@ -667,18 +667,41 @@ std::vector<std::vector<int>> ReferenceMembers(const BasisView& basis,
   return members;
 }
 
-// Each pixel's misfit (RMS, log space) to group g's centre alone: at the best normal the search
-// finds, or at the sample's normal (`flat`); infinite where none is usable.
-std::vector<double> MisfitsTo(const BasisView& basis, const PixelObservations& pixels,
-                              const PooledModel& model, int g, bool flat,
-                              const PixelSolveOptions& solve, const NormalSearchOptions& search) {
+// The model with group g alone: the centre a relief test judges by.
+PooledModel GroupAlone(const PooledModel& model, int g) {
   PooledModel alone = model;
   alone.groups = {model.groups[std::size_t(g)]};
+  return alone;
+}
+
+// Each pixel's misfit (RMS, log space) to the centre of `alone` (one group) at the best normal
+// the search finds; infinite where none is usable.
+std::vector<double> MisfitsAtBest(const BasisView& basis, const PixelObservations& pixels,
+                                  const PooledModel& alone, const PixelSolveOptions& solve,
+                                  const NormalSearchOptions& search) {
   std::vector<double> misfit;
   for (int first = 0; first < pixels.pixels; first += search.chunk_pixels) {
     const int count = std::min(search.chunk_pixels, pixels.pixels - first);
     const ChunkSearch c = SearchChunk(basis, pixels, first, count, solve, search, &alone);
-    for (int p = 0; p < count; ++p) misfit.push_back(flat ? c.flat[p].misfit : c.best[p].misfit);
+    for (int p = 0; p < count; ++p) misfit.push_back(c.best[p].misfit);
+  }
+  return misfit;
+}
+
+// The same at the sample's normal: the one candidate the search scores as ChunkSearch::flat.
+std::vector<double> MisfitsAtSampleNormal(const BasisView& basis, const PixelObservations& pixels,
+                                          const PooledModel& alone, const PixelSolveOptions& solve,
+                                          const NormalSearchOptions& search) {
+  std::vector<double> misfit;
+  for (int first = 0; first < pixels.pixels; first += search.chunk_pixels) {
+    const int count = std::min(search.chunk_pixels, pixels.pixels - first);
+    const DarkViews dark(basis, pixels, first, count, solve.lookup);
+    const std::vector<std::vector<Candidate>> flat(count, {Candidate{Eigen::Vector2f::Zero()}});
+    std::vector<std::vector<Candidate>> scored;
+    ScoreAgainstCentres(basis, pixels, first, count, flat,
+                        NearestGroups(basis, pixels, first, count, alone, solve), alone, solve,
+                        search, dark, &scored);
+    for (int p = 0; p < count; ++p) misfit.push_back(scored[p][0].misfit);
   }
   return misfit;
 }
@@ -710,11 +733,13 @@ void DropReliefGroups(const BasisView& basis, const PixelObservations& sample,
     const int b = order[i];
     if (members[b].empty()) continue;
     const PixelObservations pixels = sample.Gather(members[b]);
-    const std::vector<double> own = MisfitsTo(basis, pixels, *model, b, true, solve, search);
+    const std::vector<double> own =
+        MisfitsAtSampleNormal(basis, pixels, GroupAlone(*model, b), solve, search);
     for (std::size_t j = 0; j < i && keep[b]; ++j) {
       const int a = order[j];
       if (!keep[a]) continue;
-      const std::vector<double> by_a = MisfitsTo(basis, pixels, *model, a, false, solve, search);
+      const std::vector<double> by_a =
+          MisfitsAtBest(basis, pixels, GroupAlone(*model, a), solve, search);
       if (MedianRatio(by_a, own) < kReliefRatio) keep[b] = 0;
     }
   }

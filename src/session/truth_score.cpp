@@ -25,21 +25,22 @@ namespace {
 // The card's normals over each map pixel's footprint on the sample: a kSub x kSub grid of points
 // across the parallelogram its neighbours' points span.
 constexpr int kSub = 4;
-struct Footprints {
-  // The mean normal, as a normal map at the map's resolution holds it. A point sample at the
-  // pixel's centre would score the estimate against a normal that only part of the pixel shows
-  // (the embossing's edges are a pixel or two wide).
-  std::vector<Eigen::Vector3f> mean;
-  // Where the footprint's normals differ: the index of its kSub^2 normals in `sub`; -1 where
-  // they are one (the mean).
+// The footprints whose normals differ (a relief's edges): per map pixel the index of its kSub^2
+// normals in `normals`, -1 where they are one (the pixel's mean normal).
+struct FootprintFacets {
   std::vector<int> first;
-  std::vector<Eigen::Vector3f> sub;
+  std::vector<Eigen::Vector3f> normals;
 };
-Footprints FootprintNormals(const sim::SyntheticSvbrdf& card,
-                            const std::vector<Eigen::Vector3d>& points, int w, int h) {
-  Footprints f;
-  f.mean.assign(points.size(), Eigen::Vector3f::UnitZ());
-  f.first.assign(points.size(), -1);
+// Each map pixel's mean normal over its footprint, as a normal map at the map's resolution holds
+// it (a point sample at the pixel's centre would score the estimate against a normal that only
+// part of the pixel shows: the embossing's edges are a pixel or two wide); the facets where they
+// differ into `facets`.
+std::vector<Eigen::Vector3f> FootprintNormals(const sim::SyntheticSvbrdf& card,
+                                              const std::vector<Eigen::Vector3d>& points, int w,
+                                              int h, FootprintFacets* facets) {
+  std::vector<Eigen::Vector3f> mean(points.size(), Eigen::Vector3f::UnitZ());
+  facets->first.assign(points.size(), -1);
+  facets->normals.clear();
   auto at = [&](int x, int y) -> Eigen::Vector2d {
     return points[std::size_t(std::clamp(y, 0, h - 1)) * w + std::clamp(x, 0, w - 1)].head<2>();
   };
@@ -59,12 +60,12 @@ Footprints FootprintNormals(const sim::SyntheticSvbrdf& card,
           one = one && n == grid[0];
         }
       const std::size_t p = std::size_t(y) * w + x;
-      f.mean[p] = sum.normalized();
+      mean[p] = sum.normalized();
       if (one) continue;
-      f.first[p] = int(f.sub.size());
-      f.sub.insert(f.sub.end(), grid.begin(), grid.end());
+      facets->first[p] = int(facets->normals.size());
+      facets->normals.insert(facets->normals.end(), grid.begin(), grid.end());
     }
-  return f;
+  return mean;
 }
 
 // The card's true materials (as the camera records them: linear Rec. 709, or luminance for a
@@ -73,7 +74,7 @@ struct TruthAtPixels {
   std::vector<MerlBrdf> materials;
   std::vector<int> labels;               // per map pixel, -1 off the card
   std::vector<Eigen::Vector3f> normals;  // per map pixel; empty without relief or a search
-  Footprints relief;                     // empty without relief
+  FootprintFacets relief;                // empty without relief
 };
 TruthAtPixels TruthOfMap(const Plan& plan, const sim::GroundTruthFiles& truth_files,
                          const ProcessReport& process) {
@@ -85,10 +86,10 @@ TruthAtPixels TruthOfMap(const Plan& plan, const sim::GroundTruthFiles& truth_fi
   const calib::ReferenceView reference = ReferenceViewOf(plan, process.calibration.camera);
   const std::vector<Eigen::Vector3d> points = calib::SamplePoints(reference);
   for (const Eigen::Vector3d& p : points) t.labels.push_back(truth_files.card.LabelAt(p.head<2>()));
-  if (!truth_files.card.normal.empty()) {
-    t.relief = FootprintNormals(truth_files.card, points, reference.width, reference.height);
-    t.normals = t.relief.mean;
-  } else if (process.reconstruction.normals_searched)
+  if (!truth_files.card.normal.empty())
+    t.normals =
+        FootprintNormals(truth_files.card, points, reference.width, reference.height, &t.relief);
+  else if (process.reconstruction.normals_searched)
     // A flat sample searched for normals: every estimated tilt is false tilt, which the report
     // must show as it does on a relief's flat areas.
     t.normals.assign(points.size(), Eigen::Vector3f::UnitZ());
@@ -165,13 +166,13 @@ void ScoreValidationAgainstTruth(const Plan& plan, const std::string& dir, const
     const auto brdf = [&material](const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
       return material.LookupInterpolated(a, b);
     };
-    const Footprints& relief = truth_at.relief;
-    if (relief.mean.empty()) return brdf(in, out);
-    if (relief.first[i] < 0) return SeenAsFlat(relief.mean[i], in, out, brdf);
+    const FootprintFacets& relief = truth_at.relief;
+    if (relief.first.empty()) return brdf(in, out);
+    if (relief.first[i] < 0) return SeenAsFlat(truth_at.normals[i], in, out, brdf);
     std::array<double, 3> sum{};
     for (int k = 0; k < kSub * kSub; ++k) {
       const std::array<double, 3> v =
-          SeenAsFlat(relief.sub[std::size_t(relief.first[i] + k)], in, out, brdf);
+          SeenAsFlat(relief.normals[std::size_t(relief.first[i] + k)], in, out, brdf);
       for (int c = 0; c < 3; ++c) sum[c] += v[c] / (kSub * kSub);
     }
     return sum;
