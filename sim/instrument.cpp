@@ -181,7 +181,9 @@ void Instrument::Place(const Placement& p) {
       }
       break;
     case Item::kChart:
+      if (!options_.chart_laid) break;  // forgotten: the camera sees the sample
       scene.kind = RenderScene::Kind::kChart;
+      scene.chart_cover = options_.chart_cover;
       break;
     case Item::kSample:
       break;

@@ -11,6 +11,8 @@
 #include <string>
 #include <vector>
 
+#include <Eigen/Geometry>
+
 #include "brdf/merl_brdf.h"
 #include "brdf/neural_brdf.h"
 #include "calib/board.h"
@@ -47,6 +49,10 @@ struct InstrumentOptions {
   // Relief on the sample (issue 19): the card embossed and its border raised (relief.h), each
   // point rendered in its facet's frame; unset: flat. Boards, chart and Spectralon stay flat.
   std::optional<ReliefOptions> relief;
+  // The colour chart as the operator lays it (issue 16's bad input): partly under a grey card
+  // (this rectangle of the sample plane, mm), or not at all (the sample left in its place).
+  std::optional<Eigen::AlignedBox2d> chart_cover;
+  bool chart_laid = true;
   // Or the relief from a height map (ReadHeightMap; heights in the sample layout's cells: a file
   // sample's pixels, or the built-in samples' 0.1 mm cells), of the layout's size.
   std::string height_map_file;

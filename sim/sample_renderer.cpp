@@ -50,6 +50,8 @@ std::array<double, 3> Brdf(const RenderScene& scene, const Eigen::Vector2d& poin
       if (std::abs(point.x()) >= half || std::abs(point.y()) >= half) break;
       return lambert(scene.spectralon_albedo);
     case RenderScene::Kind::kChart: {
+      if (scene.chart_cover && scene.chart_cover->contains(point))
+        return lambert(scene.chart_cover_albedo);
       if (!scene.chart.OnChart(point)) break;
       const std::optional<int> patch = scene.chart.PatchAt(point);
       if (!patch) return lambert(scene.chart_body_albedo);

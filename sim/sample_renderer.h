@@ -11,10 +11,12 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 
 #include "calib/board.h"
 #include "calib/camera_model.h"
@@ -44,6 +46,9 @@ struct RenderScene {
   // Lambertian with their reference colours on a black body.
   ChartLayout chart;
   double chart_body_albedo = 0.03;
+  // A grey card lying over part of the chart (the operator's occlusion), on the sample plane.
+  std::optional<Eigen::AlignedBox2d> chart_cover;
+  double chart_cover_albedo = 0.18;
   double background_albedo = 0.02;  // the dark cloth around the sample (Lambertian)
 };
 

@@ -74,6 +74,23 @@ void Cover(HdrImage* im, int patch, const ChartLayout& layout = {}) {
     }
 }
 
+// Lays a uniform grey card (albedo 0.18, as the camera sees it under the light) over a patch
+// and its surround: the patch is uniform, of the wrong colour.
+void CoverWhole(HdrImage* im, const SyntheticCamera& cam, int patch,
+                const ChartLayout& layout = {}) {
+  const std::size_t n = std::size_t(kSize) * kSize;
+  const Eigen::Vector2d c = layout.Centre(patch);
+  for (int y = 0; y < kSize; ++y)
+    for (int x = 0; x < kSize; ++x) {
+      const Eigen::Vector2d p((x - kSize / 2.0) / kPxPerMm, (y - kSize / 2.0) / kPxPerMm);
+      if ((p - c).cwiseAbs().maxCoeff() > layout.patch_mm / 2 + layout.gap_mm / 2) continue;
+      const double falloff = 1.0 / (1.0 + 0.002 * (p.x() + 30) * (p.x() + 30));
+      const Eigen::Vector3d camera = cam.camera_from_rec709 * (0.18 * cam.light) * 500 * falloff;
+      for (int ch = 0; ch < 3; ++ch)
+        im->radiance[ch * n + std::size_t(y) * kSize + x] = float(camera[ch]);
+    }
+}
+
 }  // namespace
 
 TEST_CASE("colour chart: the fit undoes the camera's cross-talk and the light's colour") {
@@ -115,5 +132,35 @@ TEST_CASE("colour chart: covered or saturated patches are dropped by name; too f
     CHECK(std::string(e.what()).find("only 10 of 24 colour chart patches are usable") !=
           std::string::npos);
     CHECK(std::string(e.what()).find("dark skin: not uniform") != std::string::npos);
+  }
+}
+
+TEST_CASE("colour chart: patches wholly under a grey card are found by the fit and dropped") {
+  const SyntheticCamera cam = PlausibleCamera();
+  const HdrImage white = Render(cam, true);
+  HdrImage chart = Render(cam, false);
+  // Uniform patches of the wrong colour: the spread test cannot see them.
+  for (int patch : {0, 1, 6, 7}) CoverWhole(&chart, cam, patch);  // dark skin ... purplish blue
+  const ChartFit fit = FitColourChart(chart, white, Orthographic(), "test chart");
+  CHECK(fit.used == 20);
+  for (int patch : {0, 1, 6, 7}) {
+    INFO(fit.patches[std::size_t(patch)].name << ": " << fit.patches[std::size_t(patch)].dropped);
+    CHECK(fit.patches[std::size_t(patch)].dropped.find("from its reference colour after the fit") !=
+          std::string::npos);
+  }
+  // The 20 left fit exactly (as the whole chart does): the covered ones no longer pull the fit.
+  CHECK(fit.max_delta_e2000 < 0.05);
+  const Eigen::Matrix3d product =
+      fit.rec709_from_camera * cam.camera_from_rec709 * cam.light.asDiagonal();
+  CHECK((product / product(1, 1) - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff() < 1e-6);
+
+  // Covered past the minimum: refused, naming the patches and why.
+  for (int patch = 8; patch < 18; ++patch) CoverWhole(&chart, cam, patch);
+  try {
+    FitColourChart(chart, white, Orthographic(), "test chart");
+    FAIL("a chart with most patches covered was fitted");
+  } catch (const UserError& e) {
+    CHECK(std::string(e.what()).find("of 24 colour chart patches are usable") != std::string::npos);
+    CHECK(std::string(e.what()).find("after the fit") != std::string::npos);
   }
 }

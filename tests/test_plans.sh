@@ -185,6 +185,20 @@ expect "a mono camera with a chart" 1 mono_chart.yaml --dry-run -- \
 variant chart_no_spectralon 's/pixel_format: Mono16/pixel_format: BayerRG16\n  colour_chart: true/; s/^spectralon: true/spectralon: false/'
 expect "a chart without the Spectralon" 1 chart_no_spectralon.yaml --dry-run -- \
   "chart_no_spectralon.yaml:" "the colour chart needs the Spectralon captures"
+variant chart_not_fitted 's/pixel_format: Mono16/pixel_format: BayerRG16\n  colour_chart: not_fitted\n  colour_matrix: [1, 0, 0, 0, 1, 0, 0, 0, 1]/'
+expect "a chart captured, not fitted, with a matrix" 0 chart_not_fitted.yaml --dry-run -- "over the sample"
+variant not_fitted_no_matrix 's/pixel_format: Mono16/pixel_format: BayerRG16\n  colour_chart: not_fitted/'
+expect "a chart not fitted without a matrix" 1 not_fitted_no_matrix.yaml --dry-run -- \
+  "not_fitted_no_matrix.yaml:13:" "camera.colour_chart: not_fitted needs camera.colour_matrix"
+# The simulated operator's chart (sim.chart): covered or not laid; only with a chart.
+variant chart_covered 's/pixel_format: Mono16/pixel_format: BayerRG16\n  colour_chart: true/; s/^sim:$/sim:\n  chart: {covered_mm: [-19, -13, -6, 2]}/'
+expect "a chart partly covered" 0 chart_covered.yaml --dry-run -- "over the sample"
+variant chart_bad_cover 's/pixel_format: Mono16/pixel_format: BayerRG16\n  colour_chart: true/; s/^sim:$/sim:\n  chart: {covered_mm: [5, 0, -5, 2]}/'
+expect "a cover with x0 > x1" 1 chart_bad_cover.yaml --dry-run -- \
+  "chart_bad_cover.yaml:" "sim.chart.covered_mm must be [x0, y0, x1, y1] with x0 < x1 and y0 < y1"
+variant sim_chart_no_chart 's/^sim:$/sim:\n  chart: {laid: false}/'
+expect "sim.chart without a chart" 1 sim_chart_no_chart.yaml --dry-run -- \
+  "sim_chart_no_chart.yaml:" "sim.chart describes the colour chart, which this plan does not capture"
 variant mono_matrix 's/pixel_format: Mono16/pixel_format: Mono16\n  colour_matrix: [1, 0, 0, 0, 1, 0, 0, 0, 1]/'
 expect "a mono camera with a matrix" 1 mono_matrix.yaml --dry-run -- \
   "mono_matrix.yaml:13:" "a mono camera (Mono16) has no colour to correct"

@@ -1,6 +1,7 @@
 #include "acq/colour_chart_fit.h"
 
 #include <Eigen/QR>
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 
@@ -65,6 +66,50 @@ PatchReading ReadPatch(const HdrImage& chart, const HdrImage& spectralon,
   return r;
 }
 
+// Least squares, all patches alike: C A^T = T with C and T one patch per row.
+Eigen::Matrix3d FitMatrix(const std::vector<Eigen::Vector3d>& camera,
+                          const std::vector<Eigen::Vector3d>& target) {
+  Eigen::MatrixXd C(camera.size(), 3), T(camera.size(), 3);
+  for (std::size_t i = 0; i < camera.size(); ++i) {
+    C.row(Eigen::Index(i)) = camera[i].transpose();
+    T.row(Eigen::Index(i)) = target[i].transpose();
+  }
+  return C.colPivHouseholderQr().solve(T).transpose();
+}
+
+double Residual(const Eigen::Matrix3d& a, const Eigen::Vector3d& camera,
+                const Eigen::Vector3d& target) {
+  const Eigen::Vector3d rgb = a * camera;
+  return DeltaE2000(LabFromLinearRec709({rgb[0], rgb[1], rgb[2]}),
+                    LabFromLinearRec709({target[0], target[1], target[2]}));
+}
+
+// The patches the fit uses: each one's index on the chart, its camera RGB and its reference.
+struct UsedPatches {
+  std::vector<int> index;
+  std::vector<Eigen::Vector3d> camera, target;
+  int Count() const { return int(index.size()); }
+  void Add(int patch, const Eigen::Vector3d& rgb, const Eigen::Vector3d& reference) {
+    index.push_back(patch);
+    camera.push_back(rgb);
+    target.push_back(reference);
+  }
+  int Remove(int i) {  // returns its index on the chart
+    const int patch = index[std::size_t(i)];
+    index.erase(index.begin() + i);
+    camera.erase(camera.begin() + i);
+    target.erase(target.begin() + i);
+    return patch;
+  }
+};
+
+std::string DroppedList(const std::vector<ChartPatchFit>& patches) {
+  std::string dropped;
+  for (const ChartPatchFit& p : patches)
+    if (!p.used) dropped += (dropped.empty() ? "" : "; ") + p.name + ": " + p.dropped;
+  return dropped;
+}
+
 }  // namespace
 
 ChartFit FitColourChart(const HdrImage& chart, const HdrImage& spectralon,
@@ -77,8 +122,7 @@ ChartFit FitColourChart(const HdrImage& chart, const HdrImage& spectralon,
                     "capture both with the colour camera at the same pose");
   const auto& reference = ColorCheckerClassic();
   ChartFit fit;
-  std::vector<Eigen::Vector3d> camera, target;
-  std::vector<int> used_patch;
+  UsedPatches used;
   for (int i = 0; i < int(reference.size()); ++i) {
     ChartPatchFit p;
     p.name = reference[std::size_t(i)].name;
@@ -88,42 +132,53 @@ ChartFit FitColourChart(const HdrImage& chart, const HdrImage& spectralon,
       p.dropped = *r.dropped;
     } else {
       p.used = true;
-      camera.push_back(r.camera);
       const auto& rgb = reference[std::size_t(i)].rgb;
-      target.emplace_back(rgb[0], rgb[1], rgb[2]);
-      used_patch.push_back(i);
+      used.Add(i, r.camera, Eigen::Vector3d(rgb[0], rgb[1], rgb[2]));
     }
     fit.patches.push_back(p);
   }
-  fit.used = int(camera.size());
-  if (fit.used < kMinChartPatches) {
-    std::string dropped;
-    for (const ChartPatchFit& p : fit.patches)
-      if (!p.used) dropped += (dropped.empty() ? "" : "; ") + p.name + ": " + p.dropped;
+  const auto check_enough = [&] {
+    if (used.Count() >= kMinChartPatches) return;
     throw UserError(where,
-                    "only " + std::to_string(fit.used) +
-                        " of 24 colour chart patches are usable (" + dropped + ")",
+                    "only " + std::to_string(used.Count()) +
+                        " of 24 colour chart patches are usable (" + DroppedList(fit.patches) + ")",
                     "lay the chart flat and centred, nothing over it, lit without glare; or give "
-                    "camera.colour_matrix");
+                    "camera.colour_matrix (a session captured already: acq session process "
+                    "SESSION --set camera.colour_chart=not_fitted --set camera.colour_matrix=[9 "
+                    "numbers], docs/colour.md)");
+  };
+  check_enough();
+  // A patch wholly under something uniform passes the spread test with another colour: it is
+  // the one the fit misses by far. The worst is dropped and the rest fitted again (one at a
+  // time: a wrong patch pulls the fit towards itself and raises the others' residuals).
+  std::vector<double> residuals;
+  for (;;) {
+    fit.rec709_from_camera = FitMatrix(used.camera, used.target);
+    residuals.clear();
+    for (int i = 0; i < used.Count(); ++i)
+      residuals.push_back(Residual(fit.rec709_from_camera, used.camera[std::size_t(i)],
+                                   used.target[std::size_t(i)]));
+    const auto worst = std::max_element(residuals.begin(), residuals.end());
+    if (*worst <= kMaxChartResidual) break;
+    char why[128];
+    std::snprintf(why, sizeof why,
+                  "%.0f CIEDE2000 from its reference colour after the fit (covered, or the chart "
+                  "not where expected)",
+                  *worst);
+    ChartPatchFit& p = fit.patches[std::size_t(used.Remove(int(worst - residuals.begin())))];
+    p.used = false;
+    p.dropped = why;
+    check_enough();
   }
-  // Least squares, all patches alike: C A^T = T with C and T one patch per row.
-  Eigen::MatrixXd C(fit.used, 3), T(fit.used, 3);
+  fit.used = used.Count();
   for (int i = 0; i < fit.used; ++i) {
-    C.row(i) = camera[std::size_t(i)].transpose();
-    T.row(i) = target[std::size_t(i)].transpose();
-  }
-  fit.rec709_from_camera = C.colPivHouseholderQr().solve(T).transpose();
-  std::vector<double> errors;
-  for (int i = 0; i < fit.used; ++i) {
-    const Eigen::Vector3d rgb = fit.rec709_from_camera * camera[std::size_t(i)];
-    ChartPatchFit& p = fit.patches[std::size_t(used_patch[std::size_t(i)])];
+    ChartPatchFit& p = fit.patches[std::size_t(used.index[std::size_t(i)])];
+    const Eigen::Vector3d rgb = fit.rec709_from_camera * used.camera[std::size_t(i)];
     p.rgb = {rgb[0], rgb[1], rgb[2]};
-    const auto& t = target[std::size_t(i)];
-    p.delta_e2000 = DeltaE2000(LabFromLinearRec709(p.rgb), LabFromLinearRec709({t[0], t[1], t[2]}));
-    errors.push_back(p.delta_e2000);
-    fit.max_delta_e2000 = std::max(fit.max_delta_e2000, p.delta_e2000);
+    p.delta_e2000 = residuals[std::size_t(i)];
   }
-  fit.median_delta_e2000 = Median(errors);
+  fit.max_delta_e2000 = *std::max_element(residuals.begin(), residuals.end());
+  fit.median_delta_e2000 = Median(residuals);
   return fit;
 }
 

@@ -358,7 +358,11 @@ CameraSpec ReadCamera(const Section& top, Backend backend) {
     throw UserError(hdr.Where("auto"), "camera.hdr has both auto and bracket_us",
                     "choose one: a fixed bracket or the automatic one");
   camera.Checked([&] { c.Check(); });
-  c.colour_chart = camera.Flag("colour_chart", false);
+  if (camera.Has("colour_chart") && camera.Text("colour_chart") == "not_fitted")
+    c.colour_chart = CameraSpec::Chart::kNotFitted;
+  else
+    c.colour_chart =
+        camera.Flag("colour_chart", false) ? CameraSpec::Chart::kFitted : CameraSpec::Chart::kNone;
   camera.At(camera.Has("colour_chart") ? "colour_chart" : "colour_matrix",
             [&] { c.CheckColour(); });
   if (backend == Backend::kUsbAravis && c.id.empty())
@@ -509,11 +513,31 @@ SimSpec::Relief ReadRelief(const Section& relief, const std::string& base) {
   return r;
 }
 
+// sim.chart: how the simulated operator lays the colour chart.
+SimSpec::Chart ReadSimChart(const Section& chart) {
+  SimSpec::Chart c;
+  c.laid = chart.Flag("laid", true);
+  if (chart.Has("covered_mm")) {
+    if (!c.laid)
+      throw UserError(chart.Where("covered_mm"),
+                      "sim.chart.covered_mm covers a chart that sim.chart.laid leaves out",
+                      "give one of them");
+    const std::vector<double> box = chart.Numbers("covered_mm");
+    if (box.size() != 4 || !(box[0] < box[2] && box[1] < box[3]))
+      throw UserError(chart.Where("covered_mm"),
+                      "sim.chart.covered_mm must be [x0, y0, x1, y1] with x0 < x1 and y0 < y1",
+                      "the rectangle of the sample plane (mm, the chart centred at 0, 0) that a "
+                      "grey card covers, like [-20, -14, -6, 0]");
+    c.covered_mm = std::array<double, 4>{box[0], box[1], box[2], box[3]};
+  }
+  return c;
+}
+
 SimSpec ReadSim(const YAML::Node& root, const Section& top, const std::string& base,
-                Backend backend) {
+                Backend backend, bool colour_chart) {
   const Section sim = top.Child(
       "sim", {"materials", "seed", "light_intensity", "time_scale", "operator", "image_size",
-              "camera_model", "camera_filter", "light_rgb", "sample", "relief"});
+              "camera_model", "camera_filter", "light_rgb", "sample", "relief", "chart"});
   SimSpec s;
   if (backend == Backend::kSim) s.materials = ReadSimMaterials(root, sim, base);
   if (sim.HasMap("sample")) {
@@ -568,6 +592,13 @@ SimSpec ReadSim(const YAML::Node& root, const Section& top, const std::string& b
   }
   if (sim.Has("relief"))
     s.relief = ReadRelief(sim.Child("relief", {"slope_deg", "fibre_deg", "height_map"}), base);
+  if (sim.Has("chart")) {
+    if (!colour_chart)
+      throw UserError(sim.Where("chart"),
+                      "sim.chart describes the colour chart, which this plan does not capture",
+                      "set camera.colour_chart: true, or leave sim.chart out");
+    s.chart = ReadSimChart(sim.Child("chart", {"covered_mm", "laid"}));
+  }
   sim.Checked([&] { s.Check(); });
   return s;
 }
@@ -636,18 +667,24 @@ void GantrySpec::Check() const {
 
 void CameraSpec::CheckColour() const {
   const bool colour = CfaOf(settings.pixel_format) != Cfa::kNone;
-  if (colour && !rec709_from_camera && !colour_chart)
+  const bool fitted = colour_chart == Chart::kFitted;
+  if (colour_chart == Chart::kNotFitted && !rec709_from_camera)
+    throw UserError("colour_chart", "camera.colour_chart: not_fitted needs camera.colour_matrix",
+                    "give the 3 x 3 matrix of a camera characterised before, or set "
+                    "colour_chart: true to fit it from the chart");
+  if (colour && !rec709_from_camera && !fitted)
     throw UserError("colour_matrix",
                     std::string("a colour camera (") + PixelFormatName(settings.pixel_format) +
                         ") needs camera.colour_chart or camera.colour_matrix",
                     "colour_chart: true captures a ColorChecker to fit its colour matrix; or give "
                     "the 3 x 3 matrix of a camera characterised before (docs/colour.md)");
-  if (colour_chart && rec709_from_camera)
+  if (fitted && rec709_from_camera)
     throw UserError("colour_chart",
                     "camera.colour_chart and camera.colour_matrix exclude each other",
-                    "fit the matrix from a chart captured in this session, or give one; not both");
-  if (!colour && (rec709_from_camera || colour_chart))
-    throw UserError(colour_chart ? "colour_chart" : "colour_matrix",
+                    "fit the matrix from a chart captured in this session, or give one; not both "
+                    "(colour_chart: not_fitted captures the chart and uses the matrix)");
+  if (!colour && (rec709_from_camera || ChartCaptured()))
+    throw UserError(ChartCaptured() ? "colour_chart" : "colour_matrix",
                     std::string("a mono camera (") + PixelFormatName(settings.pixel_format) +
                         ") has no colour to correct",
                     "leave camera.colour_matrix and camera.colour_chart out, or name a Bayer "
@@ -735,12 +772,12 @@ Plan LoadPlan(const std::string& path, const std::string& relative_to) {
                     "a real instrument needs the Spectralon captures: they measure the light "
                     "for the reconstruction",
                     "set spectralon: true");
-  if (plan.camera.colour_chart && !plan.spectralon)
+  if (plan.camera.colour_chart == CameraSpec::Chart::kFitted && !plan.spectralon)
     throw UserError(
         top.Where("spectralon"),
         "the colour chart needs the Spectralon captures (its white at the chart's pose)",
         "set spectralon: true, or give camera.colour_matrix instead of the chart");
-  plan.sim = ReadSim(root, top, base, plan.backend);
+  plan.sim = ReadSim(root, top, base, plan.backend, plan.camera.ChartCaptured());
   plan.reconstruction = ReadReconstruction(top, base);
   if (optimizer) optimizer->At("n", [&] { OptimizePlanDirections(&plan); });
   if (plan.backend == Backend::kReplay) CheckReplayMatches(plan, top);

@@ -4,6 +4,7 @@
 // file:line:column and says what to do.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -50,9 +51,13 @@ struct CameraSpec {         // camera:
   // by row, for a camera characterised before (docs/colour.md); the light's colour is left to
   // the Spectralon captures. Unset for a mono camera.
   std::optional<Eigen::Matrix3d> rec709_from_camera;
-  // camera.colour_chart (a Bayer camera): a ColorChecker captured at the sample's first pose,
-  // from which the processing fits rec709_from_camera (acq/colour_chart_fit.h).
-  bool colour_chart = false;
+  // camera.colour_chart (a Bayer camera): true, a ColorChecker captured at the sample's first
+  // pose, from which the processing fits rec709_from_camera (acq/colour_chart_fit.h);
+  // not_fitted, the chart captured and colour_matrix used instead (a session whose chart could
+  // not be fitted, processed again with a characterised camera's matrix: docs/colour.md).
+  enum class Chart { kNone, kFitted, kNotFitted };
+  Chart colour_chart = Chart::kNone;
+  bool ChartCaptured() const { return colour_chart != Chart::kNone; }
   void Check() const;
   void CheckColour() const;  // a matrix for a colour camera only, and an invertible one
 };
@@ -100,6 +105,14 @@ struct SimSpec {  // sim:
     std::string height_map;  // resolved; empty: the built-in relief
   };
   std::optional<Relief> relief;
+  // sim.chart: how the operator lays the colour chart (issue 16's bad input): {covered_mm: [x0,
+  // y0, x1, y1]}, a grey card lying over that rectangle of the sample plane (sim::ChartScene);
+  // {laid: false}, the chart forgotten (the sample captured in its place).
+  struct Chart {
+    std::optional<std::array<double, 4>> covered_mm;
+    bool laid = true;
+  };
+  Chart chart;
   void Check() const;
 };
 

@@ -153,7 +153,7 @@ std::vector<PlanSetting> PlanSettings(const Plan& plan) {
             Numbers({double(plan.calibration.board_width_n),
                      double(plan.calibration.board_height_n), plan.calibration.board_spacing_mm}));
   s.Capture("spectralon", plan.spectralon ? "true" : "false");
-  if (plan.camera.colour_chart) s.Capture("camera.colour_chart", "true");
+  if (plan.camera.ChartCaptured()) s.Capture("camera.colour_chart", "true");  // fitted or not
   if (plan.backend == Backend::kSim) {
     for (std::size_t i = 0; i < plan.sim.materials.size(); ++i)
       s.Capture("sim.materials[" + std::to_string(i + 1) + "]", FileValue(plan.sim.materials[i]));
@@ -177,6 +177,10 @@ std::vector<PlanSetting> PlanSettings(const Plan& plan) {
       else
         s.Capture("sim.relief", Numbers({relief->slope_deg, relief->fibre_deg}));
     }
+    // The chart's frame changes with how it is laid (recorded only when not as it should be).
+    if (const auto& box = plan.sim.chart.covered_mm)
+      s.Capture("sim.chart.covered_mm", Numbers({(*box)[0], (*box)[1], (*box)[2], (*box)[3]}));
+    if (!plan.sim.chart.laid) s.Capture("sim.chart.laid", "false");
   }
   // Processing only: the frames stay what they are.
   // The colour matrix is applied to the HDR images when processing (a camera characterised

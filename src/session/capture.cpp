@@ -166,7 +166,7 @@ std::vector<Direction> IntrinsicsDirection() {
 SessionVisits PlanVisits(const Plan& plan) {
   SessionVisits v;
   v.sample = PlanShortest(plan.directions, plan.gantry.motion);
-  if (plan.camera.colour_chart && !v.sample.poses.empty()) {
+  if (plan.camera.ChartCaptured() && !v.sample.poses.empty()) {
     v.chart.poses.push_back(v.sample.poses.front());
     v.chart.total_s = v.chart.poses.front().move_s;
   }
@@ -201,7 +201,7 @@ std::vector<CaptureStep> CaptureSteps(const Plan& plan, const SessionVisits& vis
       steps.push_back({Step::kSpectralonValidation, &visits.validation, &plan.validation});
   }
   // The chart at the sample's first pose, where the Spectralon and the board were too.
-  if (plan.camera.colour_chart) steps.push_back({Step::kChart, &visits.chart, &plan.directions});
+  if (plan.camera.ChartCaptured()) steps.push_back({Step::kChart, &visits.chart, &plan.directions});
   return steps;
 }
 

@@ -202,7 +202,7 @@ ProcessReport ProcessSession(const Plan& plan, SessionCatalog& catalog,
   report.reference_height = reference.view().height;
 
   report.rec709_from_camera = plan.camera.rec709_from_camera;
-  if (plan.camera.colour_chart) {
+  if (plan.camera.colour_chart == CameraSpec::Chart::kFitted) {
     report.chart = FitSessionChart(plan, session, precomputed, &report);
     report.rec709_from_camera = report.chart->rec709_from_camera;
     catalog.Event("info", "colour matrix fitted from the chart");

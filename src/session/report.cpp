@@ -309,6 +309,8 @@ std::string ResultText(const ProcessReport& p) {
     for (const ChartPatchFit& patch : p.chart->patches)
       if (!patch.used)
         t << "  WARNING: chart patch " << patch.name << " left out: " << patch.dropped << "\n";
+  } else if (p.rec709_from_camera) {
+    t << "colour matrix: given in the plan (camera.colour_matrix)\n";
   }
   for (const ValidationSummary& v : p.validation) {
     std::snprintf(line, sizeof line,

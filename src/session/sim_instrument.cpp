@@ -22,6 +22,10 @@ sim::InstrumentOptions InstrumentOptionsOf(const Plan& plan) {
   o.image_height = plan.sim.image_height;
   o.camera_filter = plan.sim.camera_filter.value_or(CfaOf(plan.camera.settings.pixel_format));
   o.light_rgb = plan.sim.light_rgb;
+  if (const auto& c = plan.sim.chart.covered_mm)
+    o.chart_cover =
+        Eigen::AlignedBox2d(Eigen::Vector2d((*c)[0], (*c)[1]), Eigen::Vector2d((*c)[2], (*c)[3]));
+  o.chart_laid = plan.sim.chart.laid;
   if (plan.sim.relief) {
     if (!plan.sim.relief->height_map.empty()) {
       o.height_map_file = plan.sim.relief->height_map;
