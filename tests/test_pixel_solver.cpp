@@ -1446,8 +1446,11 @@ TEST_CASE("pooled: a pixel no group explains keeps the sample's normal", "[norma
   // The guard must have had work (else the check below says nothing): the embossed card's ink
   // edges leave pixels that no group explains (measured: 221 of 2,304, all estimated alone
   // without the guard).
-  INFO("taken back " << report.normals_reverted << ", estimated " << report.normals_estimated);
+  INFO("taken back " << report.normals_reverted << ", kept with the prior "
+                     << report.normals_settled << ", estimated " << report.normals_estimated);
   CHECK(report.normals_reverted > 0);
+  // Some are explained better tilted, and keep their normal with their group's prior.
+  CHECK(report.normals_settled > 0);
   CHECK(report.normals_estimated > 0);
   int estimated_alone = 0;
   for (int y = 0; y < 48; ++y)

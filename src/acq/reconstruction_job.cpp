@@ -34,19 +34,40 @@ PixelObservations ReadSample(ObservationSource& source, const ReconstructionOpti
   return source.Pixels(indices, options.band_rows);
 }
 
-// A pixel whose normal was estimated but which no group of the map's model explains (the pooled
-// solve left it alone) goes back to the sample's normal and is solved again as read
-// (NormalStatus::kAssumed): its normal was judged by a centre that the final model rejects, and
+// A pixel whose normal was estimated but which the pooled solve left alone (no group of the
+// map's model explains it, or its left-out views preferred its own solve to its group's prior):
 // alone in a tilted frame its coefficients extrapolate wildly (the embossed card through acqd:
 // 20 such pixels held 99% of a validation view's squared error; docs/reconstruction.md,
-// "Normals"). Returns how many went back.
-long RevertUnexplainedNormals(const BasisView& basis, const PixelObservations& as_read,
-                              const PooledModel& model, const PixelSolveOptions& solve,
-                              PixelNormals* normals, PixelSolution* solution) {
-  std::vector<int> back;
+// "Normals"). Its normal was judged by a material's centre, so it is solved again as that
+// judgement assumes, with the prior of the group whose centre explains it, at its estimated
+// normal and at the sample's: the normal stays where a group explains it tilted and fits it
+// better tilted than flat. Otherwise it goes back to the sample's normal and is solved again as
+// read, as the pooled solve chooses (NormalStatus::kAssumed). Counts both in `report`.
+void SettleUnexplainedNormals(const BasisView& basis, const PixelObservations& as_read,
+                              const PixelObservations& turned, const PooledModel& model,
+                              const PixelSolveOptions& solve, PixelNormals* normals,
+                              PixelSolution* solution, ReconstructionReport* report) {
+  std::vector<int> alone;
   for (int p = 0; p < as_read.pixels; ++p)
-    if (normals->status[p] == NormalStatus::kEstimated && solution->group[p] < 0) back.push_back(p);
-  if (back.empty()) return 0;
+    if (normals->status[p] == NormalStatus::kEstimated && solution->group[p] < 0)
+      alone.push_back(p);
+  if (alone.empty()) return;
+  const auto solve_with_prior = [&](const PixelObservations& from) {
+    const PixelObservations gathered = from.Gather(alone);
+    PixelSolution s;
+    s.Resize(gathered.pixels, solution->components);
+    SolvePixelsPooled(basis, gathered, model, solve, &s, 0, PriorChoice::kWhereExplained);
+    return s;
+  };
+  const PixelSolution tilted = solve_with_prior(turned), flat = solve_with_prior(as_read);
+  solution->Scatter(tilted, alone);
+  std::vector<int> back;
+  for (std::size_t i = 0; i < alone.size(); ++i)
+    if (tilted.group[i] < 0 || (flat.group[i] >= 0 && !(tilted.residual[i] < flat.residual[i])))
+      back.push_back(alone[i]);
+  report->normals_settled += long(alone.size() - back.size());
+  report->normals_reverted += long(back.size());
+  if (back.empty()) return;
   const PixelObservations again = as_read.Gather(back);
   PixelSolution redone;
   redone.Resize(again.pixels, solution->components);
@@ -56,7 +77,6 @@ long RevertUnexplainedNormals(const BasisView& basis, const PixelObservations& a
     normals->normal[std::size_t(p)] = Eigen::Vector3f::UnitZ();
     normals->status[std::size_t(p)] = NormalStatus::kAssumed;
   }
-  return long(back.size());
 }
 
 }  // namespace
@@ -100,8 +120,10 @@ std::string ReconstructionReport::NormalsSummary() const {
   char line[512];
   std::snprintf(line, sizeof line,
                 "normals: %ld estimated, %ld refused, %ld without evidence for a tilt (the "
-                "sample's normal kept), %ld taken back (no group explains them)",
-                normals_estimated, normals_refused, normals_no_evidence, normals_reverted);
+                "sample's normal kept), %ld taken back (no group explains them better tilted "
+                "than flat), %ld kept with their group's prior",
+                normals_estimated, normals_refused, normals_no_evidence, normals_reverted,
+                normals_settled);
   return line;
 }
 
@@ -177,8 +199,8 @@ ReconstructionReport Reconstruct(const BasisView& basis, ObservationSource& sour
     else
       SolvePixels(basis, obs, options.solve, &solution);
     if (revert)
-      report.normals_reverted += RevertUnexplainedNormals(basis, as_read, report.model,
-                                                          options.solve, &normals, &solution);
+      SettleUnexplainedNormals(basis, as_read, obs, report.model, options.solve, &normals,
+                               &solution, &report);
     report.solve_seconds += std::chrono::duration<double>(Clock::now() - solve_start).count();
     // Pixel-major solution -> one plane per channel for the map.
     const std::size_t n = std::size_t(obs.pixels);

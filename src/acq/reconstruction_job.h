@@ -36,6 +36,9 @@ struct ReconstructionReport {
   long normals_estimated = 0, normals_refused = 0;  // normals.enabled
   long normals_no_evidence = 0;  // a tilt found that did not earn its keep (NormalStatus)
   long normals_reverted = 0;     // kPooled: estimated, but no group explains them: kAssumed
+  // kPooled: estimated, left alone by the pooled solve, and kept with their group's prior (a
+  // group explains them better tilted than flat; SettleUnexplainedNormals).
+  long normals_settled = 0;
   double normal_seconds = 0;
   double solve_seconds = 0, total_seconds = 0;
   void Print() const;

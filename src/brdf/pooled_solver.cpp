@@ -55,7 +55,7 @@ struct PooledPixel {
 
   void Solve(const BasisView& basis, const PixelObservations& obs, int p, const PooledModel& model,
              const Centres& centres, const PixelSolveOptions& options, PixelSolution* solution,
-             std::size_t out) {
+             std::size_t out, PriorChoice choice) {
     const int k = options.components, K = model.components;
     rows.Sample(basis, obs, p, K, options.lookup);
     q.resize(obs.views, K);
@@ -106,7 +106,8 @@ struct PooledPixel {
       // group's own pixels, and only where it predicts the left-out views better than the
       // pixel alone does.
       const bool of_group = centre_misfit <= group.misfit_limit;
-      if (of_group && pooled.loo <= alone.loo && pooled.c.allFinite()) {
+      const bool better = choice == PriorChoice::kWhereExplained || pooled.loo <= alone.loo;
+      if (of_group && better && pooled.c.allFinite()) {
         for (int ch = 0; ch < 3; ++ch)
           for (int j = 0; j < K; ++j)
             coefficients[ch * K + j] =
@@ -157,7 +158,7 @@ struct PooledPixel {
 
 void SolvePixelsPooled(const BasisView& basis, const PixelObservations& obs,
                        const PooledModel& model, const PixelSolveOptions& options,
-                       PixelSolution* solution, int first_pixel) {
+                       PixelSolution* solution, int first_pixel, PriorChoice choice) {
   options.Check(basis);
   const Centres centres(model);
 #pragma omp parallel
@@ -166,7 +167,8 @@ void SolvePixelsPooled(const BasisView& basis, const PixelObservations& obs,
 #pragma omp for schedule(dynamic, 16)
     for (int p = 0; p < obs.pixels; ++p) {
       if (p % 16 == 0) one.factor.estimator.Reset();  // warm starts within a chunk: see SolvePixels
-      one.Solve(basis, obs, p, model, centres, options, solution, std::size_t(first_pixel) + p);
+      one.Solve(basis, obs, p, model, centres, options, solution, std::size_t(first_pixel) + p,
+                choice);
     }
   }
 }

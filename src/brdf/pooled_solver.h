@@ -14,10 +14,17 @@
 
 namespace acq {
 
+// Whether a pixel its group's centre explains takes the prior.
+enum class PriorChoice {
+  kByLeftOutViews,  // where it predicts the left-out views better than the pixel alone (above)
+  kWhereExplained,  // always: a pixel whose normal was judged by a centre (normal_search.h)
+};
+
 // `solution` is sized for model.components coefficients per channel. With a model without
 // groups every pixel is its independent solve. Never writes NaN.
 void SolvePixelsPooled(const BasisView& basis, const PixelObservations& observations,
                        const PooledModel& model, const PixelSolveOptions& options,
-                       PixelSolution* solution, int first_pixel = 0);
+                       PixelSolution* solution, int first_pixel = 0,
+                       PriorChoice choice = PriorChoice::kByLeftOutViews);
 
 }  // namespace acq

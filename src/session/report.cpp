@@ -94,9 +94,10 @@ std::string SessionReport::Json() const {
   }
   if (r.normals_searched)
     j["map"]["normals"] = {
-        {"estimated", r.normals_estimated},       {"refused", r.normals_refused},
-        {"no_evidence", r.normals_no_evidence},   {"taken_back", r.normals_reverted},
-        {"many_refused", r.ManyNormalsRefused()}, {"search_s", r.normal_seconds}};
+        {"estimated", r.normals_estimated},     {"refused", r.normals_refused},
+        {"no_evidence", r.normals_no_evidence}, {"taken_back", r.normals_reverted},
+        {"kept_with_prior", r.normals_settled}, {"many_refused", r.ManyNormalsRefused()},
+        {"search_s", r.normal_seconds}};
   const SessionCalibration& c = p.calibration;
   int found = 0;
   for (const BoardPoseResult& b : c.boards) found += b.found;
