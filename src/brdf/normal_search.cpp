@@ -763,6 +763,7 @@ PooledModel FitNormalReference(const BasisView& basis, const PixelObservations& 
   reference.design_sigma_deg = 0;
   reference.merge_in_field = false;
   reference.leave_out_colour_fringes = false;
+  reference.groups_must_beat_independent = false;
   // The number of groups is searched past merges, as for the map's model: a search stopped at
   // them left a flat pink-jasper patch merged into the white paint around it, and tilted
   // (docs/reconstruction.md, "The reference's groups are materials"). The groups that are a

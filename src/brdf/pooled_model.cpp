@@ -85,6 +85,9 @@ std::string PooledModel::Summary() const {
     << independent_held_out_rms << ")\n  groups tried (held-out RMS):";
   for (const Trial& t : selection) s << " " << t.groups << ":" << t.held_out_rms;
   s << "\n";
+  if (dropped_held_out_rms > 0)
+    s << "  no groups kept: their held-out RMS " << dropped_held_out_rms
+      << " does not beat every pixel alone by 1%; every pixel is solved alone\n";
   for (std::size_t g = 0; g < groups.size(); ++g)
     s << "  group " << g << ": " << groups[g].sample_pixels << " sample pixels (centre from "
       << groups[g].centre_members << ", " << groups[g].effective_pixels << " effective), k_c "
@@ -788,6 +791,17 @@ PooledModel FitPooledModel(const BasisView& basis, const PixelObservations& samp
     model.groups.push_back(std::move(group));
   }
   model.held_out_rms = Rms(squared, observations);
+  // The groups must earn their keep against none at all (every pixel alone), as a larger model
+  // must against a smaller one: where the near field leaves the pixels nothing to share (a field
+  // of view of 0 on a smooth blend), a gain under kSizeTolerance is the noise of the groups' and
+  // the priors' choice (docs/reconstruction.md, "No groups unless they earn their keep"). A
+  // number of groups the user forced is kept.
+  if (options.groups <= 0 && options.groups_must_beat_independent &&
+      model.held_out_rms > model.independent_held_out_rms * (1 - kSizeTolerance)) {
+    model.groups.clear();
+    model.dropped_held_out_rms = model.held_out_rms;
+    model.held_out_rms = model.independent_held_out_rms;
+  }
   return model;
 }
 

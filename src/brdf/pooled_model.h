@@ -4,8 +4,9 @@
 // from the data by held-out views, on a sample of the image's pixels held in memory:
 //   - the number of groups G: k-means on the pixels' independent solutions (a space the near
 //     field does not shift: each pixel's coefficients, not its observations), then each pixel's
-//     leave-one-view-out error with its group's prior; the smallest G within 1% of the best
-//     (a larger model must earn its keep: "model no more than a scene needs");
+//     leave-one-view-out error with its group's prior; the smallest G within 0.1% of the best
+//     (a larger model must earn its keep: "model no more than a scene needs"); and no groups at
+//     all unless the model beats every pixel alone by 1%;
 //   - each group's centre from its pixels weighted by how near their directions are to the
 //     plan's (design_sigma_deg): the directions were optimised for the whole grid's error; then
 //     again from the 90% of them that centre explains best (mixed pixels and strays left out),
@@ -71,6 +72,10 @@ struct PooledOptions {
   // reference, whose observations are taken as flat, so that a tilted pixel's colour (a glossy
   // ink's highlight caught or missed) is data to judge normals by, not a fringe.
   bool leave_out_colour_fringes = true;
+  // Whether a model whose held-out views gain less than 1% over every pixel alone is dropped
+  // (no groups: the pooled solve is then the independent one). Off: the normal search's
+  // reference, whose centres judge the normals whatever the pooled solve does with them.
+  bool groups_must_beat_independent = true;
   void Check() const;  // throws UserError
 };
 
@@ -107,7 +112,10 @@ struct PooledModel {
   std::vector<Trial> selection;         // each G tried, in order
   double held_out_rms = 0;              // the chosen model's, over the sample
   double independent_held_out_rms = 0;  // the independent solve's on the same sample
-  int sample_pixels = 0;                // usable pixels of the sample
+  // The held-out RMS of the groups found, when they were dropped for not beating every pixel
+  // alone (PooledOptions::groups_must_beat_independent); 0 otherwise.
+  double dropped_held_out_rms = 0;
+  int sample_pixels = 0;  // usable pixels of the sample
   // A feature vector of per-channel coefficients (3 x k, R then G then B).
   void Feature(const float* coefficients, int k, double* feature) const;
   // The (at most) m groups whose centroids are nearest a feature vector, nearest first.

@@ -84,13 +84,17 @@ std::string SessionReport::Json() const {
                         {"held_out_rms", g.held_out_rms}});
     for (const PooledModel::Trial& t : r.model.selection)
       tried.push_back({{"groups", t.groups}, {"held_out_rms", t.held_out_rms}});
-    j["map"]["pooled"] = {{"groups", groups},
-                          {"groups_tried", tried},
-                          {"held_out_rms", r.model.held_out_rms},
-                          {"independent_held_out_rms", r.model.independent_held_out_rms},
-                          {"sample_pixels", r.model.sample_pixels},
-                          {"pixels_with_prior", r.pooled},
-                          {"model_s", r.model_seconds}};
+    j["map"]["pooled"] = {
+        {"groups", groups},
+        {"groups_tried", tried},
+        {"held_out_rms", r.model.held_out_rms},
+        {"independent_held_out_rms", r.model.independent_held_out_rms},
+        // groups found but dropped: they did not beat every pixel alone
+        {"dropped_groups_held_out_rms",
+         r.model.dropped_held_out_rms > 0 ? Json(r.model.dropped_held_out_rms) : Json(nullptr)},
+        {"sample_pixels", r.model.sample_pixels},
+        {"pixels_with_prior", r.pooled},
+        {"model_s", r.model_seconds}};
   }
   if (r.normals_searched)
     j["map"]["normals"] = {
