@@ -29,7 +29,8 @@ SampleToImage Orthographic() {
 
 // The chart's (or, with `white`, a Spectralon's) camera RGB under a light that falls off
 // across the image, as a demosaiced HDR image.
-HdrImage Render(const SyntheticCamera& cam, bool white, const ChartLayout& layout = {}) {
+HdrImage Render(const SyntheticCamera& cam, bool white, const ChartLayout& layout = {},
+                bool turned = false) {
   HdrImage im;
   im.width = im.height = kSize;
   im.channels = 3;
@@ -41,7 +42,7 @@ HdrImage Render(const SyntheticCamera& cam, bool white, const ChartLayout& layou
       const Eigen::Vector2d p((x - kSize / 2.0) / kPxPerMm, (y - kSize / 2.0) / kPxPerMm);
       Eigen::Vector3d reflectance = Eigen::Vector3d::Constant(white ? 0.99 : 0.03);
       if (!white)
-        if (const std::optional<int> patch = layout.PatchAt(p)) {
+        if (const std::optional<int> patch = layout.PatchAt(turned ? Eigen::Vector2d(-p) : p)) {
           const auto& rgb = ColorCheckerClassic()[std::size_t(*patch)].rgb;
           reflectance = {rgb[0], rgb[1], rgb[2]};
         }
@@ -163,4 +164,19 @@ TEST_CASE("colour chart: patches wholly under a grey card are found by the fit a
     CHECK(std::string(e.what()).find("of 24 colour chart patches are usable") != std::string::npos);
     CHECK(std::string(e.what()).find("after the fit") != std::string::npos);
   }
+}
+
+TEST_CASE("colour chart: a chart laid turned half round is fitted as laid, and said") {
+  const SyntheticCamera cam = PlausibleCamera();
+  const ChartFit fit =
+      FitColourChart(Render(cam, false, {}, true), Render(cam, true), Orthographic(), "test chart");
+  CHECK(fit.turned_half_round);
+  CHECK(fit.used == 24);
+  CHECK(fit.patches[0].name == "black 2");  // read where the layout puts dark skin
+  const Eigen::Matrix3d product =
+      fit.rec709_from_camera * cam.camera_from_rec709 * cam.light.asDiagonal();
+  CHECK((product / product(1, 1) - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff() < 1e-6);
+  // As laid, it is not turned.
+  CHECK_FALSE(FitColourChart(Render(cam, false), Render(cam, true), Orthographic(), "test chart")
+                  .turned_half_round);
 }

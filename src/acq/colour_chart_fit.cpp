@@ -112,42 +112,36 @@ std::string DroppedList(const std::vector<ChartPatchFit>& patches) {
 
 }  // namespace
 
-ChartFit FitColourChart(const HdrImage& chart, const HdrImage& spectralon,
-                        const SampleToImage& to_image, const std::string& where,
-                        const ChartLayout& layout) {
-  if (chart.channels != 3 || spectralon.channels != 3 || chart.width != spectralon.width ||
-      chart.height != spectralon.height)
-    throw UserError(where,
-                    "the chart and the Spectralon at its pose must be colour images of one size",
-                    "capture both with the colour camera at the same pose");
+namespace {
+
+// The fit of patches read at the layout's positions, the reference colour at position i being
+// that of chart patch `patch_at[i]` (i itself for a chart laid as the layout says). Returns the
+// fit, or nullopt with `problem` saying why too few patches remain.
+std::optional<ChartFit> FitReadings(const std::vector<PatchReading>& readings,
+                                    const std::vector<int>& patch_at, std::string* problem) {
   const auto& reference = ColorCheckerClassic();
   ChartFit fit;
   UsedPatches used;
-  for (int i = 0; i < int(reference.size()); ++i) {
+  for (std::size_t i = 0; i < readings.size(); ++i) {
     ChartPatchFit p;
-    p.name = reference[std::size_t(i)].name;
-    const PatchReading r =
-        ReadPatch(chart, spectralon, to_image, layout.Centre(i), layout.patch_mm);
-    if (r.dropped) {
-      p.dropped = *r.dropped;
+    const int patch = patch_at[i];
+    p.name = reference[std::size_t(patch)].name;
+    if (readings[i].dropped) {
+      p.dropped = *readings[i].dropped;
     } else {
       p.used = true;
-      const auto& rgb = reference[std::size_t(i)].rgb;
-      used.Add(i, r.camera, Eigen::Vector3d(rgb[0], rgb[1], rgb[2]));
+      const auto& rgb = reference[std::size_t(patch)].rgb;
+      used.Add(int(i), readings[i].camera, Eigen::Vector3d(rgb[0], rgb[1], rgb[2]));
     }
     fit.patches.push_back(p);
   }
-  const auto check_enough = [&] {
-    if (used.Count() >= kMinChartPatches) return;
-    throw UserError(where,
-                    "only " + std::to_string(used.Count()) +
-                        " of 24 colour chart patches are usable (" + DroppedList(fit.patches) + ")",
-                    "lay the chart flat and centred, nothing over it, lit without glare; or give "
-                    "camera.colour_matrix (a session captured already: acq session process "
-                    "SESSION --set camera.colour_chart=not_fitted --set camera.colour_matrix=[9 "
-                    "numbers], docs/colour.md)");
+  const auto enough = [&] {
+    if (used.Count() >= kMinChartPatches) return true;
+    *problem = "only " + std::to_string(used.Count()) + " of 24 colour chart patches are usable (" +
+               DroppedList(fit.patches) + ")";
+    return false;
   };
-  check_enough();
+  if (!enough()) return std::nullopt;
   // A patch wholly under something uniform passes the spread test with another colour: it is
   // the one the fit misses by far. The worst is dropped and the rest fitted again (one at a
   // time: a wrong patch pulls the fit towards itself and raises the others' residuals).
@@ -168,7 +162,7 @@ ChartFit FitColourChart(const HdrImage& chart, const HdrImage& spectralon,
     ChartPatchFit& p = fit.patches[std::size_t(used.Remove(int(worst - residuals.begin())))];
     p.used = false;
     p.dropped = why;
-    check_enough();
+    if (!enough()) return std::nullopt;
   }
   fit.used = used.Count();
   for (int i = 0; i < fit.used; ++i) {
@@ -180,6 +174,39 @@ ChartFit FitColourChart(const HdrImage& chart, const HdrImage& spectralon,
   fit.max_delta_e2000 = *std::max_element(residuals.begin(), residuals.end());
   fit.median_delta_e2000 = Median(residuals);
   return fit;
+}
+
+}  // namespace
+
+ChartFit FitColourChart(const HdrImage& chart, const HdrImage& spectralon,
+                        const SampleToImage& to_image, const std::string& where,
+                        const ChartLayout& layout) {
+  if (chart.channels != 3 || spectralon.channels != 3 || chart.width != spectralon.width ||
+      chart.height != spectralon.height)
+    throw UserError(where,
+                    "the chart and the Spectralon at its pose must be colour images of one size",
+                    "capture both with the colour camera at the same pose");
+  const int patches = layout.columns * layout.rows;
+  std::vector<PatchReading> readings;
+  std::vector<int> as_laid, turned;
+  for (int i = 0; i < patches; ++i) {
+    readings.push_back(ReadPatch(chart, spectralon, to_image, layout.Centre(i), layout.patch_mm));
+    as_laid.push_back(i);
+    turned.push_back(patches - 1 - i);  // the chart turned half round: the last patch first
+  }
+  std::string problem, turned_problem;
+  if (std::optional<ChartFit> fit = FitReadings(readings, as_laid, &problem)) return *fit;
+  // Laid turned half round (an easy mistake: the chart is symmetric in shape), it is as good a
+  // chart: fitted as laid, and said.
+  if (std::optional<ChartFit> fit = FitReadings(readings, turned, &turned_problem)) {
+    fit->turned_half_round = true;
+    return *fit;
+  }
+  throw UserError(where, problem,
+                  "lay the chart flat and centred, nothing over it, lit without glare; or give "
+                  "camera.colour_matrix (a session captured already: acq session process "
+                  "SESSION --set camera.colour_chart=not_fitted --set camera.colour_matrix=[9 "
+                  "numbers], docs/colour.md)");
 }
 
 }  // namespace acq

@@ -142,6 +142,7 @@ std::string SessionReport::Json() const {
       j["colour"]["chart_residual_delta_e2000_max"] = p.chart->max_delta_e2000;
       j["colour"]["chart_residual_delta_e2000_median"] = p.chart->median_delta_e2000;
       j["colour"]["chart_patches_used"] = p.chart->used;
+      j["colour"]["chart_turned_half_round"] = p.chart->turned_half_round;
       Json patches = Json::array();
       for (const ChartPatchFit& patch : p.chart->patches)
         patches.push_back(patch.used
@@ -311,6 +312,10 @@ std::string ResultText(const ProcessReport& p) {
                   p.chart->used, p.chart->median_delta_e2000, p.chart->max_delta_e2000,
                   worst ? worst->name.c_str() : "-");
     t << line;
+    if (p.chart->turned_half_round)
+      t << "  WARNING: the chart was laid turned half round (black where dark skin should be); "
+           "fitted "
+           "as laid\n";
     for (const ChartPatchFit& patch : p.chart->patches)
       if (!patch.used)
         t << "  WARNING: chart patch " << patch.name << " left out: " << patch.dropped << "\n";
