@@ -186,8 +186,8 @@ ReconstructionReport Reconstruct(const BasisView& basis, ObservationSource& sour
     const int rows = std::min(options.band_rows, h - y0);
     PixelObservations obs = source.Rows(y0, rows);
     const auto normal_start = Clock::now();
-    const bool revert = pooled && options.normals.enabled;
-    const PixelObservations as_read = revert ? obs : PixelObservations();
+    const bool settle = pooled && options.normals.enabled;
+    const PixelObservations as_read = settle ? obs : PixelObservations();
     PixelNormals normals =
         EstimateNormals(basis, &obs, options.solve, options.normals, &normals_reference);
     report.normal_seconds += std::chrono::duration<double>(Clock::now() - normal_start).count();
@@ -198,7 +198,7 @@ ReconstructionReport Reconstruct(const BasisView& basis, ObservationSource& sour
       SolvePixelsPooled(basis, obs, report.model, options.solve, &solution);
     else
       SolvePixels(basis, obs, options.solve, &solution);
-    if (revert)
+    if (settle)
       SettleUnexplainedNormals(basis, as_read, obs, report.model, options.solve, &normals,
                                &solution, &report);
     report.solve_seconds += std::chrono::duration<double>(Clock::now() - solve_start).count();
