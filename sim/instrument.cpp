@@ -184,6 +184,7 @@ void Instrument::Place(const Placement& p) {
       if (!options_.chart_laid) break;  // forgotten: the camera sees the sample
       scene.kind = RenderScene::Kind::kChart;
       scene.chart_cover = options_.chart_cover;
+      scene.chart.turn = options_.chart_turn;
       break;
     case Item::kSample:
       break;

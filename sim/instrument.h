@@ -17,6 +17,7 @@
 #include "brdf/neural_brdf.h"
 #include "calib/board.h"
 #include "calib/camera_model.h"
+#include "core/colour_chart.h"
 #include "core/sample_kind.h"
 #include "core/session_vocabulary.h"
 #include "sim/gantry_firmware.h"
@@ -53,6 +54,7 @@ struct InstrumentOptions {
   // (this rectangle of the sample plane, mm), or not at all (the sample left in its place).
   std::optional<Eigen::AlignedBox2d> chart_cover;
   bool chart_laid = true;
+  ChartTurn chart_turn = ChartTurn::kNone;  // laid turned from its layout
   // Or the relief from a height map (ReadHeightMap; heights in the sample layout's cells: a file
   // sample's pixels, or the built-in samples' 0.1 mm cells), of the layout's size.
   std::string height_map_file;

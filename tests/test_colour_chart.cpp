@@ -29,8 +29,7 @@ SampleToImage Orthographic() {
 
 // The chart's (or, with `white`, a Spectralon's) camera RGB under a light that falls off
 // across the image, as a demosaiced HDR image.
-HdrImage Render(const SyntheticCamera& cam, bool white, const ChartLayout& layout = {},
-                bool turned = false) {
+HdrImage Render(const SyntheticCamera& cam, bool white, const ChartLayout& layout = {}) {
   HdrImage im;
   im.width = im.height = kSize;
   im.channels = 3;
@@ -42,7 +41,7 @@ HdrImage Render(const SyntheticCamera& cam, bool white, const ChartLayout& layou
       const Eigen::Vector2d p((x - kSize / 2.0) / kPxPerMm, (y - kSize / 2.0) / kPxPerMm);
       Eigen::Vector3d reflectance = Eigen::Vector3d::Constant(white ? 0.99 : 0.03);
       if (!white)
-        if (const std::optional<int> patch = layout.PatchAt(turned ? Eigen::Vector2d(-p) : p)) {
+        if (const std::optional<int> patch = layout.PatchAt(p)) {
           const auto& rgb = ColorCheckerClassic()[std::size_t(*patch)].rgb;
           reflectance = {rgb[0], rgb[1], rgb[2]};
         }
@@ -166,17 +165,34 @@ TEST_CASE("colour chart: patches wholly under a grey card are found by the fit a
   }
 }
 
-TEST_CASE("colour chart: a chart laid turned half round is fitted as laid, and said") {
+TEST_CASE("colour chart: a chart laid turned is fitted as laid, and said") {
   const SyntheticCamera cam = PlausibleCamera();
-  const ChartFit fit =
-      FitColourChart(Render(cam, false, {}, true), Render(cam, true), Orthographic(), "test chart");
-  CHECK(fit.turned_half_round);
-  CHECK(fit.used == 24);
-  CHECK(fit.patches[0].name == "black 2");  // read where the layout puts dark skin
-  const Eigen::Matrix3d product =
-      fit.rec709_from_camera * cam.camera_from_rec709 * cam.light.asDiagonal();
-  CHECK((product / product(1, 1) - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff() < 1e-6);
-  // As laid, it is not turned.
-  CHECK_FALSE(FitColourChart(Render(cam, false), Render(cam, true), Orthographic(), "test chart")
-                  .turned_half_round);
+  for (ChartTurn turn :
+       {ChartTurn::kNone, ChartTurn::kQuarter, ChartTurn::kHalf, ChartTurn::kThreeQuarter}) {
+    CAPTURE(ChartTurnDegrees(turn));
+    ChartLayout laid;
+    laid.turn = turn;
+    const ChartFit fit =
+        FitColourChart(Render(cam, false, laid), Render(cam, true), Orthographic(), "test chart");
+    CHECK(fit.turned == turn);
+    CHECK(fit.used == 24);
+    CHECK(fit.patches[0].name == std::string("dark skin"));
+    // Exact to rounding: every patch read is its own patch.
+    const Eigen::Matrix3d product =
+        fit.rec709_from_camera * cam.camera_from_rec709 * cam.light.asDiagonal();
+    CHECK((product / product(1, 1) - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff() < 1e-6);
+  }
+}
+
+TEST_CASE("colour chart: the layout turned keeps each patch where the turn takes it") {
+  ChartLayout laid;
+  for (int quarters = 0; quarters < 4; ++quarters) {
+    laid.turn = ChartTurn(quarters);
+    CHECK(ChartTurnFromDegrees(ChartTurnDegrees(laid.turn)) == laid.turn);
+    for (int i = 0; i < 24; ++i) CHECK(laid.PatchAt(laid.Centre(i)) == i);
+  }
+  laid.turn = ChartTurn::kQuarter;  // dark skin, at (-x, -y) as laid, goes to (+x, -y)
+  CHECK(laid.Centre(0).x() > 0);
+  CHECK(laid.Centre(0).y() < 0);
+  CHECK_FALSE(ChartTurnFromDegrees(45));
 }

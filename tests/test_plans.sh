@@ -196,6 +196,11 @@ expect "a chart partly covered" 0 chart_covered.yaml --dry-run -- "over the samp
 variant chart_bad_cover 's/pixel_format: Mono16/pixel_format: BayerRG16\n  colour_chart: true/; s/^sim:$/sim:\n  chart: {covered_mm: [5, 0, -5, 2]}/'
 expect "a cover with x0 > x1" 1 chart_bad_cover.yaml --dry-run -- \
   "chart_bad_cover.yaml:" "sim.chart.covered_mm must be [x0, y0, x1, y1] with x0 < x1 and y0 < y1"
+variant chart_turned 's/pixel_format: Mono16/pixel_format: BayerRG16\n  colour_chart: true/; s/^sim:$/sim:\n  chart: {turned_deg: 270}/'
+expect "a chart laid turned" 0 chart_turned.yaml --dry-run -- "over the sample"
+variant chart_bad_turn 's/pixel_format: Mono16/pixel_format: BayerRG16\n  colour_chart: true/; s/^sim:$/sim:\n  chart: {turned_deg: 45}/'
+expect "a chart turned 45 degrees" 1 chart_bad_turn.yaml --dry-run -- \
+  "chart_bad_turn.yaml:" "sim.chart.turned_deg must be 0, 90, 180 or 270"
 variant sim_chart_no_chart 's/^sim:$/sim:\n  chart: {laid: false}/'
 expect "sim.chart without a chart" 1 sim_chart_no_chart.yaml --dry-run -- \
   "sim_chart_no_chart.yaml:" "sim.chart describes the colour chart, which this plan does not capture"

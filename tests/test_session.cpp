@@ -941,6 +941,18 @@ TEST_CASE(
       CHECK(dropped[name].find("not uniform") != std::string::npos);
     // The 18 left fit as the whole chart does (1.44 at worst measured on this plan, above).
     CHECK(colour.at("chart_residual_delta_e2000_max").get<double>() < 3);
+    CHECK(colour.at("chart_turned_deg") == 0);
+
+    // Laid a quarter round: read where the turn puts each patch, fitted as laid, and said.
+    const std::string turned = colour_plan(tmp / "turned", "  chart: {turned_deg: 90}\n");
+    REQUIRE(Wait(StartAcqd(turned, socket)) == 0);
+    const nlohmann::json turned_colour =
+        nlohmann::json::parse(ReadText(tmp / "turned/session/report.json")).at("colour");
+    CHECK(turned_colour.at("chart_turned_deg") == 90);
+    CHECK(turned_colour.at("chart_patches_used").get<int>() >= 23);  // "black 2" may be noisy
+    CHECK(turned_colour.at("chart_residual_delta_e2000_max").get<double>() < 3);
+    CHECK(ReadText(tmp / "turned/session/report.txt").find("laid turned 90 degrees") !=
+          std::string::npos);
 
     const std::string forgotten = colour_plan(tmp / "forgotten", "  chart: {laid: false}\n");
     const std::string log = tmp / "forgotten.log";

@@ -114,23 +114,21 @@ std::string DroppedList(const std::vector<ChartPatchFit>& patches) {
 
 namespace {
 
-// The fit of patches read at the layout's positions, the reference colour at position i being
-// that of chart patch `patch_at[i]` (i itself for a chart laid as the layout says). Returns the
-// fit, or nullopt with `problem` saying why too few patches remain.
+// The fit of patch i read at reading i. Returns the fit, or nullopt with `problem` saying why
+// too few patches remain.
 std::optional<ChartFit> FitReadings(const std::vector<PatchReading>& readings,
-                                    const std::vector<int>& patch_at, std::string* problem) {
+                                    std::string* problem) {
   const auto& reference = ColorCheckerClassic();
   ChartFit fit;
   UsedPatches used;
   for (std::size_t i = 0; i < readings.size(); ++i) {
     ChartPatchFit p;
-    const int patch = patch_at[i];
-    p.name = reference[std::size_t(patch)].name;
+    p.name = reference[i].name;
     if (readings[i].dropped) {
       p.dropped = *readings[i].dropped;
     } else {
       p.used = true;
-      const auto& rgb = reference[std::size_t(patch)].rgb;
+      const auto& rgb = reference[i].rgb;
       used.Add(int(i), readings[i].camera, Eigen::Vector3d(rgb[0], rgb[1], rgb[2]));
     }
     fit.patches.push_back(p);
@@ -187,22 +185,27 @@ ChartFit FitColourChart(const HdrImage& chart, const HdrImage& spectralon,
                     "the chart and the Spectralon at its pose must be colour images of one size",
                     "capture both with the colour camera at the same pose");
   const int patches = layout.columns * layout.rows;
-  std::vector<PatchReading> readings;
-  std::vector<int> as_laid, turned;
-  for (int i = 0; i < patches; ++i) {
-    readings.push_back(ReadPatch(chart, spectralon, to_image, layout.Centre(i), layout.patch_mm));
-    as_laid.push_back(i);
-    turned.push_back(patches - 1 - i);  // the chart turned half round: the last patch first
-  }
+  const auto read_as = [&](ChartTurn turn) {
+    ChartLayout laid = layout;
+    laid.turn = turn;
+    std::vector<PatchReading> readings;
+    for (int i = 0; i < patches; ++i)
+      readings.push_back(ReadPatch(chart, spectralon, to_image, laid.Centre(i), laid.patch_mm));
+    return readings;
+  };
   std::string problem, turned_problem;
-  if (std::optional<ChartFit> fit = FitReadings(readings, as_laid, &problem)) return *fit;
-  // Laid turned half round (an easy mistake: the chart is symmetric in shape), it is as good a
-  // chart: fitted as laid, and said.
-  if (std::optional<ChartFit> fit = FitReadings(readings, turned, &turned_problem)) {
-    fit->turned_half_round = true;
-    return *fit;
+  if (std::optional<ChartFit> fit = FitReadings(read_as(layout.turn), &problem)) return *fit;
+  // Laid turned (an easy mistake: half round the chart keeps its shape; a quarter round it fits
+  // the sample as well), it is as good a chart: fitted as laid, and said. A patch read where a
+  // turn puts it is a reading of the chart's own patch, or not uniform, or far from every fit.
+  for (int quarters = 1; quarters < 4; ++quarters) {
+    const ChartTurn turn = ChartTurn((int(layout.turn) + quarters) % 4);
+    if (std::optional<ChartFit> fit = FitReadings(read_as(turn), &turned_problem)) {
+      fit->turned = turn;
+      return *fit;
+    }
   }
-  throw UserError(where, problem,
+  throw UserError(where, problem + " (nor laid turned by 90, 180 or 270 degrees)",
                   "lay the chart flat and centred, nothing over it, lit without glare; or give "
                   "camera.colour_matrix (a session captured already: acq session process "
                   "SESSION --set camera.colour_chart=not_fitted --set camera.colour_matrix=[9 "

@@ -31,9 +31,8 @@ struct ChartFit {
   std::vector<ChartPatchFit> patches;  // the chart's 24, in its order
   int used = 0;
   double max_delta_e2000 = 0, median_delta_e2000 = 0;
-  // The chart was laid turned half round (its last patch where the layout puts the first) and
-  // fitted as laid: `patches` then name the patch read at each position of the layout.
-  bool turned_half_round = false;
+  // How the chart was found laid, when not as the layout says: read and fitted as laid.
+  ChartTurn turned = ChartTurn::kNone;
 };
 
 // Fewer usable patches than this and the fit is refused: 9 unknowns, and the patches must span
@@ -54,8 +53,9 @@ using SampleToImage = std::function<std::optional<Eigen::Vector2d>(const Eigen::
 // dropped (named, with why) when a pixel of its centre is flagged or off the image, or its
 // values vary beyond what noise explains (covered, or not where the layout says), or the fit
 // misses it by more than kMaxChartResidual (wholly covered by something uniform). A chart laid
-// turned half round is fitted as laid (ChartFit::turned_half_round). Throws UserError naming
-// `where` when fewer than kMinChartPatches remain either way.
+// turned by a quarter, half or three quarters is fitted as laid (ChartFit::turned), tried only
+// when too few patches fit as the layout says. Throws UserError naming `where` when fewer than
+// kMinChartPatches remain every way.
 ChartFit FitColourChart(const HdrImage& chart, const HdrImage& spectralon,
                         const SampleToImage& to_image, const std::string& where,
                         const ChartLayout& layout = {});

@@ -530,6 +530,14 @@ SimSpec::Chart ReadSimChart(const Section& chart) {
                       "grey card covers, like [-20, -14, -6, 0]");
     c.covered_mm = std::array<double, 4>{box[0], box[1], box[2], box[3]};
   }
+  if (chart.Has("turned_deg")) {
+    const std::optional<ChartTurn> turn =
+        ChartTurnFromDegrees(int(chart.Integer("turned_deg", 0, 0, 270)));
+    if (!turn)
+      throw UserError(chart.Where("turned_deg"), "sim.chart.turned_deg must be 0, 90, 180 or 270",
+                      "how far the chart is laid turned, counter-clockwise, from its layout");
+    c.turned = *turn;
+  }
   return c;
 }
 
@@ -597,7 +605,7 @@ SimSpec ReadSim(const YAML::Node& root, const Section& top, const std::string& b
       throw UserError(sim.Where("chart"),
                       "sim.chart describes the colour chart, which this plan does not capture",
                       "set camera.colour_chart: true, or leave sim.chart out");
-    s.chart = ReadSimChart(sim.Child("chart", {"covered_mm", "laid"}));
+    s.chart = ReadSimChart(sim.Child("chart", {"covered_mm", "laid", "turned_deg"}));
   }
   sim.Checked([&] { s.Check(); });
   return s;

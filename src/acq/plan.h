@@ -17,6 +17,7 @@
 #include "brdf/directions.h"
 #include "brdf/normal_search.h"
 #include "brdf/pooled_model.h"
+#include "core/colour_chart.h"
 #include "core/sample_kind.h"
 #include "hw/camera.h"
 #include "hw/usb_transport.h"
@@ -107,10 +108,12 @@ struct SimSpec {  // sim:
   std::optional<Relief> relief;
   // sim.chart: how the operator lays the colour chart (issue 16's bad input): {covered_mm: [x0,
   // y0, x1, y1]}, a grey card lying over that rectangle of the sample plane (sim::ChartScene);
-  // {laid: false}, the chart forgotten (the sample captured in its place).
+  // {laid: false}, the chart forgotten (the sample captured in its place); {turned_deg: 90}, the
+  // chart laid turned counter-clockwise by 90, 180 or 270 degrees (core/colour_chart.h).
   struct Chart {
     std::optional<std::array<double, 4>> covered_mm;
     bool laid = true;
+    ChartTurn turned = ChartTurn::kNone;
   };
   Chart chart;
   void Check() const;

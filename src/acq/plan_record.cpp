@@ -181,6 +181,8 @@ std::vector<PlanSetting> PlanSettings(const Plan& plan) {
     if (const auto& box = plan.sim.chart.covered_mm)
       s.Capture("sim.chart.covered_mm", Numbers({(*box)[0], (*box)[1], (*box)[2], (*box)[3]}));
     if (!plan.sim.chart.laid) s.Capture("sim.chart.laid", "false");
+    if (plan.sim.chart.turned != ChartTurn::kNone)
+      s.Capture("sim.chart.turned_deg", std::to_string(ChartTurnDegrees(plan.sim.chart.turned)));
   }
   // Processing only: the frames stay what they are.
   // The colour matrix is applied to the HDR images when processing (a camera characterised

@@ -34,18 +34,54 @@ const std::array<ChartPatch, 24>& ColorCheckerClassic() {
   return patches;
 }
 
+int ChartTurnDegrees(ChartTurn turn) {
+  return 90 * int(turn);
+}
+
+std::optional<ChartTurn> ChartTurnFromDegrees(int degrees) {
+  for (ChartTurn t :
+       {ChartTurn::kNone, ChartTurn::kQuarter, ChartTurn::kHalf, ChartTurn::kThreeQuarter})
+    if (ChartTurnDegrees(t) == degrees) return t;
+  return std::nullopt;
+}
+
+namespace {
+
+// A point turned counter-clockwise by a number of quarter turns.
+Eigen::Vector2d Rotate(const Eigen::Vector2d& p, int quarters) {
+  switch ((quarters % 4 + 4) % 4) {
+    case 1:
+      return {-p.y(), p.x()};
+    case 2:
+      return -p;
+    case 3:
+      return {p.y(), -p.x()};
+    default:
+      return p;
+  }
+}
+
+}  // namespace
+
+Eigen::Vector2d ChartLayout::ToChart(const Eigen::Vector2d& point) const {
+  return Rotate(point, -int(turn));
+}
+
 Eigen::Vector2d ChartLayout::Centre(int patch) const {
   const int column = patch % columns, row = patch / columns;
   const double pitch = patch_mm + gap_mm;
-  return {(column - (columns - 1) / 2.0) * pitch, (row - (rows - 1) / 2.0) * pitch};
+  return Rotate({(column - (columns - 1) / 2.0) * pitch, (row - (rows - 1) / 2.0) * pitch},
+                int(turn));
 }
 
 bool ChartLayout::OnChart(const Eigen::Vector2d& point) const {
-  return std::abs(point.x()) < WidthMm() / 2 && std::abs(point.y()) < HeightMm() / 2;
+  const Eigen::Vector2d p = ToChart(point);
+  return std::abs(p.x()) < WidthMm() / 2 && std::abs(p.y()) < HeightMm() / 2;
 }
 
-std::optional<int> ChartLayout::PatchAt(const Eigen::Vector2d& point) const {
-  if (!OnChart(point)) return std::nullopt;
+std::optional<int> ChartLayout::PatchAt(const Eigen::Vector2d& sample_point) const {
+  if (!OnChart(sample_point)) return std::nullopt;
+  const Eigen::Vector2d point = ToChart(sample_point);
   const double pitch = patch_mm + gap_mm;
   // From the chart's -x, -y corner: a gap, then a patch, every pitch.
   const double u = point.x() + WidthMm() / 2 - gap_mm, v = point.y() + HeightMm() / 2 - gap_mm;

@@ -142,7 +142,7 @@ std::string SessionReport::Json() const {
       j["colour"]["chart_residual_delta_e2000_max"] = p.chart->max_delta_e2000;
       j["colour"]["chart_residual_delta_e2000_median"] = p.chart->median_delta_e2000;
       j["colour"]["chart_patches_used"] = p.chart->used;
-      j["colour"]["chart_turned_half_round"] = p.chart->turned_half_round;
+      j["colour"]["chart_turned_deg"] = ChartTurnDegrees(p.chart->turned);
       Json patches = Json::array();
       for (const ChartPatchFit& patch : p.chart->patches)
         patches.push_back(patch.used
@@ -312,9 +312,10 @@ std::string ResultText(const ProcessReport& p) {
                   p.chart->used, p.chart->median_delta_e2000, p.chart->max_delta_e2000,
                   worst ? worst->name.c_str() : "-");
     t << line;
-    if (p.chart->turned_half_round)
-      t << "  WARNING: the chart was laid turned half round (black where dark skin should be); "
-           "fitted "
+    if (p.chart->turned != ChartTurn::kNone)
+      t << "  WARNING: the chart was laid turned " << ChartTurnDegrees(p.chart->turned)
+        << " degrees counter-clockwise from its layout (where dark skin belongs at the -x, -y "
+           "corner); fitted "
            "as laid\n";
     for (const ChartPatchFit& patch : p.chart->patches)
       if (!patch.used)

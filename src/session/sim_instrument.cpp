@@ -26,6 +26,7 @@ sim::InstrumentOptions InstrumentOptionsOf(const Plan& plan) {
     o.chart_cover =
         Eigen::AlignedBox2d(Eigen::Vector2d((*c)[0], (*c)[1]), Eigen::Vector2d((*c)[2], (*c)[3]));
   o.chart_laid = plan.sim.chart.laid;
+  o.chart_turn = plan.sim.chart.turned;
   if (plan.sim.relief) {
     if (!plan.sim.relief->height_map.empty()) {
       o.height_map_file = plan.sim.relief->height_map;
