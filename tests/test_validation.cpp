@@ -48,3 +48,26 @@ TEST_CASE("a validation view's data keeps the prediction beside the capture", "[
   CHECK(ReadFloatPlanesExr(path).planes.count("predicted.R") == 0);
   std::remove(path.c_str());
 }
+
+TEST_CASE("a validation view names the pixel that carries most of its RMS", "[validation]") {
+  // Three compared pixels of a 2 x 2 view, lit along the normal; the model predicts the capture
+  // exactly but for pixel (0, 1), 3 over in every channel, and pixel (1, 0), 1 over: the first
+  // carries 9 / (9 + 1) of the squared error. Pixel (1, 1) is not compared (its error ignored).
+  ValidationData d;
+  d.name = "validation 0";
+  d.width = 2, d.height = 2;
+  d.captured.assign(12, 1.0f);
+  d.light = {0, 0, 1, 0, 0, 1, 0, 0, 1, 0, 0, 1};
+  d.camera = d.light;
+  d.compared = {1, 1, 1, 0};
+  const ValidationResult r = Compare(
+      d, [](int x, int y, const Eigen::Vector3d&, const Eigen::Vector3d&) -> std::array<double, 3> {
+        const double v = x == 0 && y == 1 ? 4 : x == 1 && y == 0 ? 2 : x == 1 && y == 1 ? 100 : 1;
+        return {v, v, v};
+      });
+  CHECK(r.pixels == 3);
+  CHECK(r.worst_x == 0);
+  CHECK(r.worst_y == 1);
+  CHECK(r.worst_share == Approx(0.9));
+  CHECK(r.relative_rms == Approx(std::sqrt(30.0 / 9.0)));
+}

@@ -79,16 +79,22 @@ ValidationResult Compare(const ValidationData& data, const PixelBrdf& brdf) {
         result.captured.rgb[3 * p + ch] = data.captured[3 * p + ch];
       }
     }
-  double diff2 = 0, ref2 = 0;
+  double diff2 = 0, ref2 = 0, worst2 = 0;
   std::vector<double> relative, delta_e;
   constexpr double kPi = 3.14159265358979323846;
   for (std::size_t p = 0; p < pixels; ++p) {
     if (!data.compared[p]) continue;
+    double pixel2 = 0;
     for (int ch = 0; ch < 3; ++ch) {
       const double a = result.predicted.rgb[3 * p + ch], b = result.captured.rgb[3 * p + ch];
-      diff2 += (a - b) * (a - b);
+      pixel2 += (a - b) * (a - b);
       ref2 += b * b;
       if (b > 0) relative.push_back(std::abs(a - b) / b);
+    }
+    diff2 += pixel2;
+    if (pixel2 > worst2) {
+      worst2 = pixel2;
+      result.worst_x = int(p % std::size_t(w)), result.worst_y = int(p / std::size_t(w));
     }
     const float* a = &result.predicted.rgb[3 * p];
     const float* b = &result.captured.rgb[3 * p];
@@ -98,6 +104,7 @@ ValidationResult Compare(const ValidationData& data, const PixelBrdf& brdf) {
   }
   result.median_delta_e2000 = delta_e.empty() ? 0 : Median(delta_e);
   result.relative_rms = ref2 > 0 ? std::sqrt(diff2 / ref2) : 0;
+  result.worst_share = diff2 > 0 ? worst2 / diff2 : 0;
   result.median_relative = relative.empty() ? 0 : Median(relative);
   return result;
 }

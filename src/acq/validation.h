@@ -28,6 +28,11 @@ struct ValidationResult {
   // Rec. 709 reflectances (a white Lambertian lit along its normal is 1); a mono camera's grey
   // differs in lightness only.
   double median_delta_e2000 = 0;
+  // The pixel whose squared error is largest and its share of the view's: relative_rms is an
+  // RMS, and one pixel can carry most of it (a normal tilted a degree or two on a mirror-like
+  // ink puts a view's half-vector on its peak: docs/reconstruction.md, "Normals").
+  int worst_x = -1, worst_y = -1;
+  double worst_share = 0;
   RgbImage predicted, captured;  // rho cos(theta_i), reference pixels; 0 where not compared
 };
 

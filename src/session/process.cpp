@@ -237,8 +237,8 @@ ProcessReport ProcessSession(const Plan& plan, SessionCatalog& catalog,
     const ValidationResult r =
         Compare(data, MapPixelBrdf(map, mapped.View(), plan.reconstruction.lookup));
     WriteValidationData(data, dir + "/" + stem + ".exr", &r.predicted);
-    ValidationSummary s{name,  r.pixels, r.relative_rms, r.median_relative, r.median_delta_e2000,
-                        render};
+    ValidationSummary s{name,   r.pixels,  r.relative_rms, r.median_relative, r.median_delta_e2000,
+                        render, r.worst_x, r.worst_y,      r.worst_share};
     WriteComparison(r, dir + "/" + s.render);
     report.validation.push_back(s);
   }

@@ -45,8 +45,10 @@ struct ValidationSummary {
   std::string name;  // the validation direction
   long pixels = 0;
   double relative_rms = 0, median_relative = 0;
-  double median_delta_e2000 = 0;  // ValidationResult's
-  std::string render;             // PNG: the map's render beside the capture
+  double median_delta_e2000 = 0;   // ValidationResult's
+  std::string render;              // PNG: the map's render beside the capture
+  int worst_x = -1, worst_y = -1;  // ValidationResult's worst pixel and its share
+  double worst_share = 0;
 };
 
 struct ProcessReport {

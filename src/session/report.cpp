@@ -13,6 +13,10 @@
 namespace acq {
 namespace {
 
+// A validation view's worst pixel is named in report.txt when it carries this share of the
+// view's squared error or more (report.json has it always).
+constexpr double kWorstPixelShareShown = 0.1;
+
 std::string Share(double part, double whole) {
   char s[32];
   std::snprintf(s, sizeof s, "%5.1f%%", whole > 0 ? 100 * part / whole : 0.0);
@@ -122,7 +126,9 @@ std::string SessionReport::Json() const {
                                {"relative_rms", v.relative_rms},
                                {"median_relative", v.median_relative},
                                {"median_delta_e2000", v.median_delta_e2000},
-                               {"render", v.render}});
+                               {"render", v.render},
+                               {"worst_pixel", {v.worst_x, v.worst_y}},
+                               {"worst_pixel_share", v.worst_share}});
   if (colour()) {
     std::vector<double> validation_delta_e;
     for (const ValidationSummary& v : p.validation)
@@ -330,6 +336,13 @@ std::string ResultText(const ProcessReport& p) {
                   v.name.c_str(), v.relative_rms, v.median_relative, v.median_delta_e2000, v.pixels,
                   v.render.c_str());
     t << line;
+    // One pixel carrying much of an RMS is worth a look before the figure is read as the map's.
+    if (v.worst_share >= kWorstPixelShareShown) {
+      std::snprintf(line, sizeof line,
+                    "  %.0f%% of its squared error from one pixel, at (%d, %d) of the map\n",
+                    100 * v.worst_share, v.worst_x, v.worst_y);
+      t << line;
+    }
   }
   return t.str();
 }
