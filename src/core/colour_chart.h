@@ -22,8 +22,8 @@ struct ChartPatch {
 const std::array<ChartPatch, 24>& ColorCheckerClassic();
 
 // How the chart is turned on the sample plane from the layout's orientation, counter-clockwise
-// (from the sample frame's +x towards +y). An operator can lay a chart any of these ways; the
-// chart's face up, a mirrored chart is not a way to lay it.
+// (from the sample frame's +x towards +y). An operator can lay a chart any of these ways; a chart
+// lies face up, so it cannot be laid mirrored.
 enum class ChartTurn { kNone, kQuarter, kHalf, kThreeQuarter };
 int ChartTurnDegrees(ChartTurn turn);
 std::optional<ChartTurn> ChartTurnFromDegrees(int degrees);  // 0, 90, 180 or 270
