@@ -1,3 +1,4 @@
+#include <algorithm>
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <random>
@@ -772,7 +773,11 @@ TEST_CASE("pooled: no groups unless they beat every pixel alone", "[pixel][poole
                     .margin(1e-5));  // two code paths in float32: rounding
   PooledOptions forced;
   forced.groups = 2;
-  CHECK(FitPooledModel(d.basis.View(), obs, solve, forced).groups.size() == 2);
+  const PooledModel two = FitPooledModel(d.basis.View(), obs, solve, forced);
+  CHECK(two.groups.size() == 2);
+  // At no field of view every pixel sees the same directions: a centre's rows have no more
+  // independent directions than the views, and it takes no more components than that allows.
+  for (const PooledGroup& g : two.groups) CHECK(g.centre_components <= std::max(k, obs.views));
 }
 
 TEST_CASE("pooled: a group's centre is weighted to the plan's directions", "[pixel][pooled]") {
