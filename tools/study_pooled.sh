@@ -68,15 +68,10 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 rows = list(csv.DictReader(open(sys.argv[1]), delimiter="\t"))
-def get(case, fov, noise, method):
+def get(case, fov, noise, method, field="median"):
     for r in rows:
         if (r["case"], r["fov_deg"], r["noise"], r["method"]) == (case, fov, noise, method):
-            return float(r["median"])
-    return float("nan")
-def seconds(case, fov, noise, method):
-    for r in rows:
-        if (r["case"], r["fov_deg"], r["noise"], r["method"]) == (case, fov, noise, method):
-            return float(r["seconds"])
+            return float(r[field])
     return float("nan")
 fig, ax = plt.subplots(1, 6, figsize=(30, 4.5))
 for method, style in (("independent", "o-"), ("pooled", "s-")):
@@ -124,7 +119,7 @@ ax[4].legend(fontsize=7)
 points = [("independent", "card", "independent"), ("pooled, chosen", "card", "pooled")] + \
          [(f"{n} groups", f"groups-{n}", "pooled") for n in g]
 for label, case, method in points:
-    t, e = seconds(case, "4", "0.05", method), get(case, "4", "0.05", method)
+    t, e = get(case, "4", "0.05", method, "seconds"), get(case, "4", "0.05", method)
     ax[5].plot(t, e, "o" if method == "independent" else "s")
     ax[5].annotate(label, (t, e), fontsize=8, xytext=(4, 4), textcoords="offset points")
 ax[5].set(xlabel="seconds, whole reconstruction (256 x 256)", ylabel="median per-pixel log-space RMSE",

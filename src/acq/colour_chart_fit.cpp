@@ -193,7 +193,7 @@ ChartFit FitColourChart(const HdrImage& chart, const HdrImage& spectralon,
       readings.push_back(ReadPatch(chart, spectralon, to_image, laid.Centre(i), laid.patch_mm));
     return readings;
   };
-  std::string problem, turned_problem;
+  std::string problem, turned_problem;  // the refusal names the chart as laid
   if (std::optional<ChartFit> fit = FitReadings(read_as(layout.turn), &problem)) return *fit;
   // Laid turned (an easy mistake: half round the chart keeps its shape; a quarter round it fits
   // the sample as well), it is as good a chart: fitted as laid, and said. A patch read where a

@@ -511,18 +511,22 @@ int RowRank(const Eigen::MatrixXd& normal_matrix) {
   return int((eigen.array() > tolerance).count());
 }
 
-// The centre's components by its held-out error, the smallest within kSizeTolerance of the best;
-// more than a pixel's k only up to the rank of the group's rows. Past it a centre has seen no
-// direction that a pixel has not: its extra components are placed by the ridge, not by the
-// data, and its held-out views, taken from the same few directions, cannot tell how they
-// extrapolate (the blend at 0 degrees, seeds 4 and 5: a group of 505 pixels took 64 components,
-// its held-out views 1% better, the map 1.4% worse; docs/reconstruction.md).
-int ChooseCentreComponents(const ViewStats& stats, int k, double eta) {
+// The most components a group's centre may take: a pixel's k, or more up to the rank of the
+// group's rows. Past it a centre has seen no direction that a pixel has not: its extra
+// components are placed by the ridge, not by the data, and its held-out views, taken from the
+// same few directions, cannot tell how they extrapolate (the blend at 0 degrees, seeds 4 and 5:
+// a group of 505 pixels took 64 components, its held-out views 1% better, the map 1.4% worse;
+// docs/reconstruction.md).
+int SupportedComponents(const ViewStats& stats, int k) {
+  return std::max(k, RowRank(stats.a_all));
+}
+
+// The centre's components, k to `supported`, by its held-out error, the smallest within
+// kSizeTolerance of the best.
+int ChooseCentreComponents(const ViewStats& stats, int k, int supported, double eta) {
   const int K = int(stats.a_all.rows());
-  const int supported = std::max(k, RowRank(stats.a_all));
   std::vector<int> candidates;
-  for (int kc = k; kc < K; kc += 8)
-    if (kc <= supported) candidates.push_back(kc);
+  for (int kc = k; kc < K && kc <= supported; kc += 8) candidates.push_back(kc);
   if (K <= supported) candidates.push_back(K);
   int best_kc = k;
   double best = std::numeric_limits<double>::infinity();
@@ -536,14 +540,14 @@ int ChooseCentreComponents(const ViewStats& stats, int k, double eta) {
 // The centre's ridge (and its components at that ridge) by its held-out error, from eta times
 // each fraction in turn: a smaller ridge is taken only if it lowers the error by
 // kSizeTolerance (the smallest departure from the one-pixel regularisation that earns it).
-void ChooseCentreRidge(const ViewStats& stats, int k, double eta,
+void ChooseCentreRidge(const ViewStats& stats, int k, int supported, double eta,
                        const std::vector<double>& fractions, int* centre_components,
                        double* centre_eta) {
   std::vector<double> ridges = fractions;
   std::sort(ridges.begin(), ridges.end(), std::greater<double>());
   double best = std::numeric_limits<double>::infinity();
   for (double f : ridges) {
-    const int kc = ChooseCentreComponents(stats, k, eta * f);
+    const int kc = ChooseCentreComponents(stats, k, supported, eta * f);
     const double err = CentreHeldOut(stats, kc, eta * f);
     if (err < best * (1 - kSizeTolerance))
       best = err, *centre_components = kc, *centre_eta = eta * f;
@@ -686,10 +690,11 @@ PooledGroup FitGroup(const std::vector<SamplePixel>& pixels, const std::vector<i
   const ViewStats stats(pixels, members, K, views, design_sigma, options.leave_out_colour_fringes);
   GroupFit whole;
   double centre_eta = eta;
-  whole.centre_components = ChooseCentreComponents(stats, k, eta);
+  const int supported = SupportedComponents(stats, k);
+  whole.centre_components = ChooseCentreComponents(stats, k, supported, eta);
   if (!options.centre_eta_fractions.empty())
-    ChooseCentreRidge(stats, k, eta, options.centre_eta_fractions, &whole.centre_components,
-                      &centre_eta);
+    ChooseCentreRidge(stats, k, supported, eta, options.centre_eta_fractions,
+                      &whole.centre_components, &centre_eta);
   GroupFit trimmed = whole;
   whole.centre = stats.Centre(whole.centre_components, centre_eta);
   const std::vector<int> explained = MembersExplainedBest(pixels, members, whole.centre);

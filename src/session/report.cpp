@@ -321,8 +321,7 @@ std::string ResultText(const ProcessReport& p) {
     if (p.chart->turned != ChartTurn::kNone)
       t << "  WARNING: the chart was laid turned " << ChartTurnDegrees(p.chart->turned)
         << " degrees counter-clockwise from its layout (where dark skin belongs at the -x, -y "
-           "corner); fitted "
-           "as laid\n";
+           "corner); fitted as laid\n";
     for (const ChartPatchFit& patch : p.chart->patches)
       if (!patch.used)
         t << "  WARNING: chart patch " << patch.name << " left out: " << patch.dropped << "\n";
