@@ -1259,6 +1259,56 @@ TEST_CASE("normals of an embossed glossy card are recovered; flat areas stay fla
   CHECK(refused <= int(scene.label.size()) / 100);
 }
 
+TEST_CASE("one view holding another facet's highlight does not drag a normal off", "[normals]") {
+  const Fixture& d = Data();
+  // The embossed brass card above; at every pixel on the relief one view, drawn at random, is
+  // made 8 times brighter: a footprint that straddles facets catches another facet's highlight
+  // there, which no single normal explains (through acqd, the pixels at a slope's foot).
+  sim::SyntheticSvbrdf scene = sim::MakeCardLayout(48, 48, 2000.0 * std::tan(DegToRad(2.0)), 1, 1);
+  sim::ReliefOptions relief;
+  relief.slope_deg = 10;
+  relief.border_share = 0.15;
+  sim::SetNormalsFromHeight(&scene, sim::CardRelief(scene, relief));
+  sim::ObservationOptions o;
+  o.geometry.sample_size_mm = scene.sample_size_mm;
+  const PixelObservations clean =
+      sim::SyntheticObservations(scene, {d.continuous[1]}, d.views, o, 0, int(scene.label.size()));
+  PixelObservations obs = clean;
+  std::mt19937 rng(7);
+  std::uniform_int_distribution<int> pick(0, obs.views - 1);
+  const auto on_relief = [&](std::size_t p) {
+    return NormalAngle(scene.normal[p], Eigen::Vector3f::UnitZ()) > DegToRad(0.5);
+  };
+  for (int p = 0; p < obs.pixels; ++p)
+    if (on_relief(std::size_t(p))) {
+      const int v = pick(rng);
+      for (int c = 0; c < 3; ++c) obs.rgb[3 * obs.At(p, v) + c] *= 8;
+    }
+  const auto relief_error = [&](int trimmed) {
+    NormalSearchOptions search;
+    search.enabled = true;
+    search.prior = 2;
+    search.trimmed_views = trimmed;
+    PixelObservations turned = obs;
+    const PooledModel reference = FitNormalReference(d.basis.View(), clean, PerPixel(), {}, search);
+    const PixelNormals normals =
+        EstimateNormals(d.basis.View(), &turned, PerPixel(), search, &reference);
+    std::vector<double> error;
+    for (std::size_t p = 0; p < scene.label.size(); ++p) {
+      REQUIRE(normals.normal[p].allFinite());
+      if (on_relief(p)) error.push_back(RadToDeg(NormalAngle(scene.normal[p], normals.normal[p])));
+    }
+    return Median(error);
+  };
+  const double trimmed = relief_error(1), untrimmed = relief_error(0);
+  INFO("relief: worst view left out " << trimmed << " deg, every view scored " << untrimmed);
+  // Measured: 0.23 degrees with the worst view left out of each score, as on the clean card
+  // (0.23 either way), and 0.51 with every view scored. The bounds leave room for the basis and
+  // the search to change: the issue's 2 degrees, and a clear loss without the trim.
+  CHECK(trimmed < 2.0);
+  CHECK(untrimmed > 1.5 * trimmed);
+}
+
 TEST_CASE("the normal reference's groups are materials, not a material's relief", "[normals]") {
   const Fixture& d = Data();
   const double size_mm = 2000.0 * std::tan(DegToRad(2.0));  // 4 degrees at 1 m

@@ -10,7 +10,8 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 
 SEARCHES = (("none", "lightgrey", "o:"), ("fit", "tab:orange", "^--"),
-            ("one-centre", "tab:green", "d-."), ("centre", "tab:blue", "s-"))
+            ("one-centre", "tab:green", "d-."), ("centre", "tab:blue", "s-"),
+            ("untrimmed", "tab:purple", "v-"))
 
 
 def line_panels(rows, axes):
@@ -48,10 +49,10 @@ def bar_panel(rows, ax, key, ylabel):
         for j, (search, colour, _) in enumerate(SEARCHES):
             r = [r for r in other if r["case"] + " " + r["value"] == name and r["search"] == search][0]
             v = float(r[key])
-            ax.bar(i * 5 + j, v if v == v else 0, color=colour)
+            ax.bar(i * 6 + j, v if v == v else 0, color=colour)
             if key == "map_error":
-                ax.text(i * 5 + j, v, "%.3f" % v, ha="center", va="bottom", fontsize=5, rotation=90)
-    ax.set_xticks([i * 5 + 1.5 for i in range(len(names))])
+                ax.text(i * 6 + j, v, "%.3f" % v, ha="center", va="bottom", fontsize=5, rotation=90)
+    ax.set_xticks([i * 6 + 2 for i in range(len(names))])
     ax.set_xticklabels(names, fontsize=7, rotation=30, ha="right")
     ax.set_ylabel(ylabel)
 
@@ -61,8 +62,10 @@ def main(path, out):
     fig, axes = plt.subplots(1, 4, figsize=(20, 4.6))
     line_panels(rows, axes)
     bar_panel(rows, axes[2], "normal_error_relief_deg", "normal error over relief (deg)")
-    bar_panel(rows, axes[3], "map_error", "map error (grey none, orange fit, green one centre, blue centre)")
-    fig.suptitle("per-pixel normal search: none / own fit / one group centre / centres or two mixed (128 x 128, 4 deg field of view, seed 20 directions)")
+    bar_panel(rows, axes[3], "map_error", "map error (grey none, orange fit, green one centre, blue centre,\npurple centre with every view scored)")
+    fig.suptitle("per-pixel normal search: none / own fit / one group centre / centres or two mixed, "
+                 "the worst view left out / the same, every view scored (128 x 128, 4 deg field of view, "
+                 "seed 20 directions)")
     fig.tight_layout()
     fig.savefig(out, dpi=110)
     print("wrote " + out)

@@ -3,7 +3,9 @@
 # embossed card (4 held-out materials, 128 x 128, 4 degree field of view, the seed paper's 20
 # directions), reconstructed independently without the search ("none"), with the search scored by
 # each pixel's own fit ("fit", the first criterion), by its material group's centre alone
-# ("one-centre") and by its groups' centres or two of them mixed ("centre", the default), over relief slopes and noise levels; single materials (a glossy brass, a matte
+# ("one-centre"), by its groups' centres or two of them mixed ("centre", the default) and the same
+# with every view scored ("untrimmed": none of the worst-explained left out), over relief slopes
+# and noise levels; single materials (a glossy brass, a matte
 # white paint, a dark fabric, a mirror-like chrome) with a raised border; and the card through
 # the pooled reconstruction. Prints one CSV line per run and charts normal error, false tilt and
 # map error (tools/chart_normals.py). Then the search methods' price: the embossed card at
@@ -23,11 +25,12 @@ normal_error() { sed -n 's/^score: normals: median angular error \([0-9.na]*\) d
 false_tilt() { sed -n 's/.*median false tilt \([0-9.na]*\) deg.*/\1/p'; }
 run() {  # CASE VALUE ARGS...: one reconstruction per search
   local case=$1 value=$2; shift 2
-  for search in none fit one-centre centre; do
+  for search in none fit one-centre centre untrimmed; do
     local flag=()
     case $search in
       none) ;;
       one-centre) flag=(--normals --normals-criterion centre --normals-single-centre) ;;
+      untrimmed) flag=(--normals --normals-criterion centre --normals-trimmed-views 0) ;;
       *) flag=(--normals --normals-criterion "$search") ;;
     esac
     local start=$(date +%s%N)

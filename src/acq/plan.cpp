@@ -612,9 +612,10 @@ SimSpec ReadSim(const YAML::Node& root, const Section& top, const std::string& b
 }
 
 ReconstructionSpec ReadReconstruction(const Section& top, const std::string& base) {
-  const Section recon = top.Child(
-      "reconstruction", {"basis", "k", "eta", "lookup", "row_tile", "method", "groups",
-                         "design_sigma_deg", "normals", "normals_prior", "normals_mixed_pixels"});
+  const Section recon =
+      top.Child("reconstruction",
+                {"basis", "k", "eta", "lookup", "row_tile", "method", "groups", "design_sigma_deg",
+                 "normals", "normals_prior", "normals_mixed_pixels", "normals_trimmed_views"});
   ReconstructionSpec r;
   r.basis_file = Resolve(base, recon.Required("basis"));
   RequireFile(recon, "basis", r.basis_file, "build one with `acq basis build` (README)");
@@ -640,6 +641,8 @@ ReconstructionSpec ReadReconstruction(const Section& top, const std::string& bas
   r.normals = recon.Flag("normals", r.normals);
   r.normals_prior = recon.Number("normals_prior", r.normals_prior);
   r.normals_mixed_pixels = recon.Flag("normals_mixed_pixels", r.normals_mixed_pixels);
+  r.normals_trimmed_views = int(
+      recon.Integer("normals_trimmed_views", r.normals_trimmed_views, 0, kMaxNormalsTrimmedViews));
   recon.Checked([&] { r.Check(); });
   return r;
 }

@@ -130,8 +130,9 @@ struct ReconstructionSpec {  // reconstruction:
   int groups = 0;  // PooledOptions::groups (0: chosen by held-out views)
   double design_sigma_deg = kDefaultDesignSigmaDeg;  // PooledOptions::design_sigma_deg
   bool normals = false;  // reconstruction.normals: each pixel's normal estimated (normal_search.h)
-  double normals_prior = kDefaultNormalsPrior;             // NormalSearchOptions::prior
-  bool normals_mixed_pixels = kDefaultNormalsMixedPixels;  // NormalSearchOptions::mixed_pixels
+  double normals_prior = kDefaultNormalsPrior;              // NormalSearchOptions::prior
+  bool normals_mixed_pixels = kDefaultNormalsMixedPixels;   // NormalSearchOptions::mixed_pixels
+  int normals_trimmed_views = kDefaultNormalsTrimmedViews;  // NormalSearchOptions::trimmed_views
   void Check() const;
 };
 

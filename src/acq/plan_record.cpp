@@ -212,6 +212,9 @@ std::vector<PlanSetting> PlanSettings(const Plan& plan) {
   if (plan.reconstruction.normals_mixed_pixels != kDefaultNormalsMixedPixels)
     s.Processing("reconstruction.normals_mixed_pixels",
                  plan.reconstruction.normals_mixed_pixels ? "true" : "false");
+  if (plan.reconstruction.normals_trimmed_views != kDefaultNormalsTrimmedViews)
+    s.Processing("reconstruction.normals_trimmed_views",
+                 std::to_string(plan.reconstruction.normals_trimmed_views));
   return s.out;
 }
 

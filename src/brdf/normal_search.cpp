@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <optional>
 
@@ -249,15 +250,34 @@ struct CentreScorer {
   Eigen::ArrayXd log_cosw;  // per used value: ln(rho cos_weight + eps) of the observation
   Eigen::ArrayXd log_ref;   // ln(rho_ref + eps) of its bin
 
-  // The RMS log-space misfit of group g's centre (its k_c components; zero past them).
-  double Misfit(int g) {
+  // The RMS log-space misfit of group g's centre (its k_c components; zero past them), over the
+  // used views but the `trim` worst-explained (TrimmedRms).
+  double Misfit(int g, int trim) {
     const int kc = model.groups[g].centre_components;
     predicted.noalias() = rows.rows.leftCols(kc) * centres[g].topRows(kc);
-    double sum = 0;
+    view_misfit.assign(used.size(), 0.0);
     for (std::size_t i = 0; i < used.size(); ++i)
-      for (int ch = 0; ch < 3; ++ch) sum += std::pow(predicted(used[i], ch) - y[3 * i + ch], 2);
-    return used.empty() ? std::numeric_limits<double>::infinity()
-                        : std::sqrt(sum / (3.0 * double(used.size())));
+      for (int ch = 0; ch < 3; ++ch)
+        view_misfit[i] += std::pow(predicted(used[i], ch) - y[3 * i + ch], 2);
+    return TrimmedRms(trim);
+  }
+  // Each used view's squared misfit summed over its channels (Misfit's, MixedMisfit's).
+  std::vector<double> view_misfit;
+  // How many views a score keeps: all used but `trim` (none left out of fewer than 2).
+  int KeptViews(int trim) const {
+    const int n = int(used.size());
+    return n - std::min(trim, std::max(n - 1, 0));
+  }
+  // The RMS over 3 x KeptViews residuals of view_misfit, its `trim` largest left out.
+  double TrimmedRms(int trim) {
+    const int kept = KeptViews(trim);
+    if (kept <= 0) return std::numeric_limits<double>::infinity();
+    const auto worst = view_misfit.begin() + (std::ptrdiff_t(view_misfit.size()) - kept);
+    if (worst != view_misfit.begin())
+      std::nth_element(view_misfit.begin(), worst, view_misfit.end(), std::greater<double>());
+    double sum = 0;
+    for (auto it = worst; it != view_misfit.end(); ++it) sum += *it;
+    return std::sqrt(sum / (3.0 * kept));
   }
   // The groups' centres as K x 3 matrices (a channel a column), for Misfit's product.
   void CopyCentres() {
@@ -290,15 +310,19 @@ struct CentreScorer {
     brdf_cosw[slot].resize(mapped.size());
     brdf_cosw[slot] = (mapped.exp() - float(kLogMappingEps)).max(0.0f);
   }
-  // The RMS log-space misfit of slots a and b mixed, `share` of a's (MapBrdf of the mixture);
-  // one expression, evaluated without a temporary.
-  double MixedMisfit(int a, int b, float share) const {
-    return std::sqrt(
-        double(((share * brdf_cosw[a] + (1 - share) * brdf_cosw[b] + float(kLogMappingEps)).log() -
-                observed)
-                   .square()
-                   .mean()));
+  // The RMS log-space misfit of slots a and b mixed, `share` of a's (MapBrdf of the mixture),
+  // over the used views but the `trim` worst-explained; the logarithms in one expression.
+  double MixedMisfit(int a, int b, float share, int trim) {
+    mixed_square =
+        ((share * brdf_cosw[a] + (1 - share) * brdf_cosw[b] + float(kLogMappingEps)).log() -
+         observed)
+            .square();
+    view_misfit.resize(used.size());
+    for (std::size_t i = 0; i < used.size(); ++i)
+      view_misfit[i] = double(mixed_square.segment(Eigen::Index(3 * i), 3).sum());
+    return TrimmedRms(trim);
   }
+  Eigen::ArrayXf mixed_square;  // MixedMisfit's per residual
   void Score(const PixelObservations& obs, int pixel, const std::vector<int>& groups,
              const NormalSearchOptions& o, int min_views, std::vector<Candidate>* candidates) {
     one.Resize(1, obs.views);
@@ -311,7 +335,7 @@ struct CentreScorer {
       if (int(used.size()) < min_views) continue;
       const DarkViews::TurnedAway turned = dark.Of(n, obs, pixel);
       const auto consider = [&](double misfit, int g, int second, float share) {
-        int views = int(used.size());
+        int views = KeptViews(o.trimmed_views);
         DarkViews::Charge(turned, &misfit, &views);
         const double score = misfit + o.prior * double(cand.slope.squaredNorm());
         if (score < cand.score) cand = {cand.slope, score, views, g, misfit, second, share};
@@ -319,7 +343,7 @@ struct CentreScorer {
       const bool mixtures = o.mixed_pixels && groups.size() >= 2;
       if (mixtures) observed = log_cosw.cast<float>();
       for (std::size_t a = 0; a < groups.size(); ++a) {
-        consider(Misfit(groups[a]), groups[a], -1, 1);
+        consider(Misfit(groups[a], o.trimmed_views), groups[a], -1, 1);
         if (mixtures) KeepBrdf(int(a));
       }
       if (!mixtures) continue;
@@ -327,8 +351,9 @@ struct CentreScorer {
         for (std::size_t b = a + 1; b < groups.size(); ++b)
           for (float share : kMixedShares) {
             const bool a_first = share >= 0.5f;
-            consider(MixedMisfit(int(a), int(b), share), a_first ? groups[a] : groups[b],
-                     a_first ? groups[b] : groups[a], a_first ? share : 1 - share);
+            consider(MixedMisfit(int(a), int(b), share, o.trimmed_views),
+                     a_first ? groups[a] : groups[b], a_first ? groups[b] : groups[a],
+                     a_first ? share : 1 - share);
           }
     }
   }
@@ -346,11 +371,11 @@ struct CentreScorer {
     int kc = model.groups[best.group].centre_components;
     if (best.second >= 0) kc = std::max(kc, model.groups[best.second].centre_components);
     Prepare(kc);
-    Misfit(best.group);
+    Misfit(best.group, 0);  // for `predicted`
     KeepBrdf(0);
     Eigen::ArrayXf lit = brdf_cosw[0];  // the explanation's cos-weighted BRDF at the used views
     if (best.second >= 0) {
-      Misfit(best.second);
+      Misfit(best.second, 0);
       KeepBrdf(1);
       lit = best.share * brdf_cosw[0] + (1 - best.share) * brdf_cosw[1];
     }
@@ -442,6 +467,11 @@ void NormalSearchOptions::Check(const BasisView& basis) const {
   if (coarse_reach < 1 || coarse_reach > 4)
     throw UserError("normals coarse reach", "must be in [1, 4]");
   if (chunk_pixels < 1) throw UserError("normals chunk", "must be at least 1");
+  if (trimmed_views < 0 || trimmed_views > kMaxNormalsTrimmedViews)
+    throw UserError("normals trimmed views",
+                    "must be in [0, " + std::to_string(kMaxNormalsTrimmedViews) + "], got " +
+                        std::to_string(trimmed_views),
+                    "1 (the default) leaves the worst-explained view out of a candidate's score");
 }
 
 void PixelNormals::Resize(int pixels) {

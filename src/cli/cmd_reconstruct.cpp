@@ -167,6 +167,7 @@ int ReconstructSynthetic(const Argv& argv) {
                                   "normals-score-min-cos",
                                   "normals-evidence",
                                   "normals-estimated-min-cos",
+                                  "normals-trimmed-views",
                                   "normals-search",
                                   "normals-levels",
                                   "normals-coarse-reach"};
@@ -236,6 +237,8 @@ int ReconstructSynthetic(const Argv& argv) {
   r.pooled.seed = o.seed;
   r.normals.enabled = args.Has("normals");
   r.normals.mixed_pixels = !args.Has("normals-single-centre");
+  r.normals.trimmed_views =
+      args.GetInt("normals-trimmed-views", r.normals.trimmed_views, 0, kMaxNormalsTrimmedViews);
   r.normals.max_tilt_deg = args.GetDouble("normals-max-tilt-deg", r.normals.max_tilt_deg, 1, 59);
   r.normals.prior = args.GetDouble("normals-prior", r.normals.prior, 0, 1e6);
   r.normals.components = args.GetInt("normals-k", r.normals.components, 1, 64);

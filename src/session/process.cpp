@@ -167,6 +167,7 @@ ReconstructionReport ReconstructMap(const Plan& plan, const MappedBasis& mapped,
   options.normals.enabled = plan.reconstruction.normals;
   options.normals.prior = plan.reconstruction.normals_prior;
   options.normals.mixed_pixels = plan.reconstruction.normals_mixed_pixels;
+  options.normals.trimmed_views = plan.reconstruction.normals_trimmed_views;
   options.progress = false;
   SvbrdfMapInfo info;
   info.basis = plan.reconstruction.basis_file;
