@@ -134,6 +134,9 @@ expect "design weighting out of range" 1 negative_design.yaml --dry-run -- \
 variant negative_normals_prior 's/^  k: 4$/  k: 4\n  normals_prior: -0.1/'
 expect "normals prior negative" 1 negative_normals_prior.yaml --dry-run -- \
   "negative_normals_prior.yaml:23:" "reconstruction.normals_prior must be >= 0"
+variant many_trimmed 's/^  k: 4$/  k: 4\n  normals_trimmed_views: 9/'
+expect "normals trimmed views out of range" 1 many_trimmed.yaml --dry-run -- \
+  "many_trimmed.yaml:23:" "reconstruction.normals_trimmed_views is 9, outside 0 to 4"
 variant empty_bracket 's/bracket_us: \[1000, 8000, 64000\]/bracket_us: []/'
 expect "empty bracket" 1 empty_bracket.yaml --dry-run -- "empty_bracket.yaml:13:" \
   "camera.hdr.bracket_us is empty" "auto: true"
