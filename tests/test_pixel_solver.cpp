@@ -1204,19 +1204,29 @@ TEST_CASE("the simulated camera renders a tilted facet as the synthetic observat
   CHECK(dark > 0);
 }
 
+// An embossed card of one material (brass, the fixture's material 1), 48 x 48 pixels filling
+// 4 degrees at 1 m: the relief is the raised border, 10 degree slopes.
+struct EmbossedBrassCard {
+  sim::SyntheticSvbrdf scene;
+  PixelObservations obs;
+  explicit EmbossedBrassCard(const Fixture& d)
+      : scene(sim::MakeCardLayout(48, 48, 2000.0 * std::tan(DegToRad(2.0)), 1, 1)) {
+    sim::ReliefOptions relief;
+    relief.slope_deg = 10;
+    relief.border_share = 0.15;
+    sim::SetNormalsFromHeight(&scene, sim::CardRelief(scene, relief));
+    sim::ObservationOptions o;
+    o.geometry.sample_size_mm = scene.sample_size_mm;
+    obs = sim::SyntheticObservations(scene, {d.continuous[1]}, d.views, o, 0,
+                                     int(scene.label.size()));
+  }
+};
+
 TEST_CASE("normals of an embossed glossy card are recovered; flat areas stay flat", "[normals]") {
   const Fixture& d = Data();
-  sim::SyntheticSvbrdf scene =
-      sim::MakeCardLayout(48, 48, 2000.0 * std::tan(DegToRad(2.0)), 1, 1);  // 4 degrees at 1 m
-  // One material (brass): the relief is the raised border; 10 degree slopes.
-  sim::ReliefOptions relief;
-  relief.slope_deg = 10;
-  relief.border_share = 0.15;
-  sim::SetNormalsFromHeight(&scene, sim::CardRelief(scene, relief));
-  sim::ObservationOptions o;
-  o.geometry.sample_size_mm = scene.sample_size_mm;
-  PixelObservations obs =
-      sim::SyntheticObservations(scene, {d.continuous[1]}, d.views, o, 0, int(scene.label.size()));
+  EmbossedBrassCard card(d);
+  const sim::SyntheticSvbrdf& scene = card.scene;
+  PixelObservations& obs = card.obs;
   NormalSearchOptions search;
   search.enabled = true;
   search.prior = 2;
@@ -1264,15 +1274,9 @@ TEST_CASE("one view holding another facet's highlight does not drag a normal off
   // The embossed brass card above; at every pixel on the relief one view, drawn at random, is
   // made 8 times brighter: a footprint that straddles facets catches another facet's highlight
   // there, which no single normal explains (through acqd, the pixels at a slope's foot).
-  sim::SyntheticSvbrdf scene = sim::MakeCardLayout(48, 48, 2000.0 * std::tan(DegToRad(2.0)), 1, 1);
-  sim::ReliefOptions relief;
-  relief.slope_deg = 10;
-  relief.border_share = 0.15;
-  sim::SetNormalsFromHeight(&scene, sim::CardRelief(scene, relief));
-  sim::ObservationOptions o;
-  o.geometry.sample_size_mm = scene.sample_size_mm;
-  const PixelObservations clean =
-      sim::SyntheticObservations(scene, {d.continuous[1]}, d.views, o, 0, int(scene.label.size()));
+  const EmbossedBrassCard card(d);
+  const sim::SyntheticSvbrdf& scene = card.scene;
+  const PixelObservations& clean = card.obs;
   PixelObservations obs = clean;
   std::mt19937 rng(7);
   std::uniform_int_distribution<int> pick(0, obs.views - 1);
