@@ -344,6 +344,76 @@ TEST_CASE("rows shared by tiles equal per-pixel rows where the directions are th
   CHECK(a.valid == b.valid);
 }
 
+TEST_CASE("a Spectralon smaller than the sample: points off the board are dropped, not divided",
+          "[pixel][session]") {
+  // A 20 mm card seen by a reference camera whose pixels are its pixels, three of the set's
+  // views rendered at 5 view pixels a card pixel, with a Spectralon board of 12 mm: the points
+  // of the card off the board read the background there, and their quotient is no BRDF.
+  const Fixture& d = Data();
+  const int n = 20;
+  const double size_mm = 20, distance = 1000, board_mm = 12;
+  sim::RenderScene card;
+  card.kind = sim::RenderScene::Kind::kCard;
+  card.sample_size_mm = size_mm;
+  card.card = sim::MakeCardLayout(n, n, size_mm, 4, 2);
+  card.materials = d.continuous;
+  sim::RenderScene spectralon = card;
+  spectralon.kind = sim::RenderScene::Kind::kSpectralon;
+  spectralon.sample_size_mm = board_mm;
+  calib::ReferenceView reference;
+  const double f_ref = distance * n / size_mm;
+  reference.camera =
+      calib::CameraModel("LENSMODEL_PINHOLE", {f_ref, f_ref, (n - 1) / 2.0, (n - 1) / 2.0}, n, n);
+  reference.cam_from_sample = calib::CamFromSampleLookingAtCentre({0, 0, distance});
+  const double f_view = distance * 160 / 32.0;
+  const calib::CameraModel view_camera("LENSMODEL_PINHOLE", {f_view, f_view, 79.5, 79.5}, 160, 160);
+  std::vector<SessionView> views;
+  for (std::size_t v : {0, 7, 14}) {
+    const sim::SimView pose = sim::ViewFromArms(d.views[v], distance, distance, 1e6);
+    SessionView sv;
+    sv.name = "view " + std::to_string(v);
+    sv.correspondence = calib::ComputeCorrespondence(
+        reference, {view_camera, pose.cam_from_sample, pose.light.position_mm});
+    const sim::RadianceImage L =
+        sim::RenderRadiance(card, view_camera, pose.cam_from_sample, pose.light, 1);
+    const sim::RadianceImage Ls =
+        sim::RenderRadiance(spectralon, view_camera, pose.cam_from_sample, pose.light, 1);
+    for (int c = 0; c < 3; ++c) {
+      sv.sample[c] = {160, 160, L.Channel(c), {}};
+      sv.spectralon[c] = {160, 160, Ls.Channel(c), {}};
+    }
+    sv.light_in_sample_mm = pose.light.position_mm;
+    views.push_back(std::move(sv));
+  }
+  std::vector<FloatPlanes> maps;
+  for (const SessionView& v : views) maps.push_back(v.correspondence);
+  CorrespondenceSource source(std::move(views), size_mm / n);
+  const PixelObservations obs = source.Rows(0, n);
+  // A view pixel is 0.2 mm at the sample: points further than two of them from the board's edge
+  // are plainly on it or off it (bilinear sampling reaches one pixel across the edge).
+  const double margin = 0.4;
+  int on = 0, off = 0;
+  for (int p = 0; p < obs.pixels; ++p)
+    for (int v = 0; v < obs.views; ++v) {
+      const FloatPlanes& m = maps[std::size_t(v)];
+      if (!(m.Plane("visible", "map")[std::size_t(p)] > 0.5f)) continue;
+      const double reach = std::max(std::abs(m.Plane("sample.x", "map")[std::size_t(p)]),
+                                    std::abs(m.Plane("sample.y", "map")[std::size_t(p)]));
+      const float value = obs.rgb[3 * obs.At(p, v)];
+      if (reach > board_mm / 2 + margin) {
+        INFO("pixel " << p << " view " << v << " off the board reads " << value);
+        CHECK(std::isnan(value));
+        ++off;
+      } else if (reach < board_mm / 2 - margin) {
+        CHECK(std::isfinite(value));
+        ++on;
+      }
+    }
+  // Both kinds are there to check: the board covers 36% of the card.
+  CHECK(on > 300);
+  CHECK(off > 300);
+}
+
 TEST_CASE(
     "a session's path (rendered views, correspondence maps, Spectralon radiometry) "
     "reconstructs as well as observations taken straight from the ground truth",

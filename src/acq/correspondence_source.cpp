@@ -41,6 +41,40 @@ void CheckImage(const ViewImage& im, const std::string& what) {
     throw UserError(what, "flags do not match the image's size");
 }
 
+// Where the view's light falls on the sample at a cosine this low, the board's reading is too
+// small and too steep a function of the point to set its level.
+constexpr double kLevelMinCos = 0.05;
+
+// The view's Spectralon level per channel: L_spectralon r^2 / cos(theta_i), which a Lambertian
+// board under a point light keeps constant, at its kLevelPercentile over the map's visible
+// points: a high percentile, so that a board covering as little as a fifth of the sample sets it
+// (its noise, a few percent, moves the level by as much; the share allows for far more).
+constexpr double kLevelPercentile = 0.8;
+std::array<double, 3> BoardLevel(const SessionView& view) {
+  std::array<double, 3> level{0, 0, 0};
+  if (view.spectralon[0].empty()) return level;
+  const FloatPlanes& m = view.correspondence;
+  const auto &x = m.Plane("x", view.name), &y = m.Plane("y", view.name);
+  const auto& visible = m.Plane("visible", view.name);
+  const auto &sx = m.Plane("sample.x", view.name), &sy = m.Plane("sample.y", view.name);
+  const auto& iz = m.Plane("wi.z", view.name);
+  for (int c = 0; c < 3; ++c) {
+    std::vector<double> values;
+    for (std::size_t q = 0; q < x.size(); ++q) {
+      if (!(visible[q] > 0.5f) || !std::isfinite(x[q]) || !(iz[q] > kLevelMinCos)) continue;
+      const float Ls = Sample(view.spectralon[c], x[q], y[q]);
+      if (!(Ls > 0)) continue;
+      const double r2 = (view.light_in_sample_mm - Eigen::Vector3d(sx[q], sy[q], 0)).squaredNorm();
+      values.push_back(double(Ls) * r2 / double(iz[q]));
+    }
+    if (values.empty()) continue;
+    const auto at = values.begin() + std::ptrdiff_t(kLevelPercentile * double(values.size() - 1));
+    std::nth_element(values.begin(), at, values.end());
+    level[std::size_t(c)] = *at;
+  }
+  return level;
+}
+
 }  // namespace
 
 ViewImage::ViewImage(int width, int height, std::vector<float> radiance,
@@ -74,6 +108,7 @@ CorrespondenceSource::CorrespondenceSource(std::vector<SessionView> views, doubl
       CheckImage(v.sample[c], v.name + " (sample image)");
       if (!v.spectralon[c].empty()) CheckImage(v.spectralon[c], v.name + " (Spectralon)");
     }
+    board_level_.push_back(BoardLevel(v));
   }
 }
 
@@ -98,6 +133,7 @@ PixelObservations CorrespondenceSource::Rows(int y0, int rows) {
     const auto &ox = m.Plane("wo.x", view.name), &oy = m.Plane("wo.y", view.name),
                &oz = m.Plane("wo.z", view.name);
     const bool spectralon = !view.spectralon[0].empty();
+    const std::array<double, 3>& level = board_level_[std::size_t(v)];
 #pragma omp parallel for schedule(static)
     for (int p = 0; p < rows * width_; ++p) {
       const std::size_t q = std::size_t(y0) * std::size_t(width_) + std::size_t(p);
@@ -107,13 +143,16 @@ PixelObservations CorrespondenceSource::Rows(int y0, int rows) {
       if (!(visible[q] > 0.5f) || !std::isfinite(x[q])) continue;  // stays NaN: dropped
       const Eigen::Vector3d point(sx[q], sy[q], 0);
       const double r = (view.light_in_sample_mm - point).norm();
+      // What the board reads at this point under the view's light, at least (kMinSpectralonShare).
+      const double board_share = kMinSpectralonShare * std::max(double(iz[q]), 0.0) / (r * r);
       for (int c = 0; c < 3; ++c) {
         const float L = Sample(view.sample[c], x[q], y[q]);
         if (!std::isfinite(L)) continue;
         double f;
         if (spectralon) {
           const float Ls = Sample(view.spectralon[c], x[q], y[q]);
-          f = std::isfinite(Ls) ? BrdfFromSpectralon(L, Ls) : std::nan("");
+          const bool on_board = double(Ls) >= board_share * level[std::size_t(c)];
+          f = std::isfinite(Ls) && on_board ? BrdfFromSpectralon(L, Ls) : std::nan("");
         } else {
           f = BrdfFromPointLight(L, view.light_intensity, r, iz[q]);
         }

@@ -9,7 +9,10 @@
 // and its distance r from the pixel's sample point. An observation is dropped for that pixel
 // (NaN, never a number) when the point is not visible in the view, its position falls off the
 // image, or any of the four pixels it is interpolated from was saturated or in the noise floor
-// in every frame of the bracket.
+// in every frame of the bracket; and, with a Spectralon, where the board reads under
+// kMinSpectralonShare of what the view's light gives it there (off the board's edge, a shadow,
+// dust): the quotient there is not the sample's BRDF (a map's edge row read 80 times too bright
+// in one channel, and carried two thirds of a validation view's error).
 #pragma once
 
 #include <array>
@@ -60,6 +63,12 @@ struct SessionView {
   int pose = -1;               // its pose in the session's step (files are named by it), or -1
 };
 
+// A Spectralon reading under this share of the view's light at the point (the board's level of
+// L_spectralon r^2 / cos(theta_i) over the points it images, times cos(theta_i) / r^2) is not
+// the board. The board is Lambertian and the light a point: over a sample at 1 m the reading
+// departs from that model by the light's beam and the noise, a few percent, never a half.
+inline constexpr double kMinSpectralonShare = 0.5;
+
 class CorrespondenceSource : public ObservationSource {
  public:
   // Throws UserError naming the view when maps differ in size or lack a plane, or images are
@@ -74,6 +83,8 @@ class CorrespondenceSource : public ObservationSource {
 
  private:
   std::vector<SessionView> views_;
+  // Per view and channel, the Spectralon's median L r^2 / cos(theta_i) (0: no Spectralon).
+  std::vector<std::array<double, 3>> board_level_;
   int width_ = 0, height_ = 0;
   double pixel_size_mm_ = 0;
 };
