@@ -344,6 +344,33 @@ TEST_CASE("rows shared by tiles equal per-pixel rows where the directions are th
   CHECK(a.valid == b.valid);
 }
 
+// A reference camera straight above a card of n x n pixels, size_mm across, at `distance`,
+// whose pixels are the card's pixels (f = d n / size).
+calib::ReferenceView CardReference(int n, double size_mm, double distance) {
+  calib::ReferenceView reference;
+  const double f = distance * n / size_mm;
+  reference.camera =
+      calib::CameraModel("LENSMODEL_PINHOLE", {f, f, (n - 1) / 2.0, (n - 1) / 2.0}, n, n);
+  reference.cam_from_sample = calib::CamFromSampleLookingAtCentre({0, 0, distance});
+  return reference;
+}
+
+// A view's sample and Spectralon images rendered by the simulated camera's renderer at `pose`,
+// and its light, into `view` (its correspondence map is the caller's).
+void RenderView(const sim::RenderScene& card, const sim::RenderScene& spectralon,
+                const calib::CameraModel& camera, const sim::SimView& pose, SessionView* view) {
+  const sim::RadianceImage L =
+      sim::RenderRadiance(card, camera, pose.cam_from_sample, pose.light, 1);
+  const sim::RadianceImage Ls =
+      sim::RenderRadiance(spectralon, camera, pose.cam_from_sample, pose.light, 1);
+  for (int c = 0; c < 3; ++c) {
+    view->sample[c] = {camera.width(), camera.height(), L.Channel(c), {}};
+    view->spectralon[c] = {camera.width(), camera.height(), Ls.Channel(c), {}};
+  }
+  view->light_in_sample_mm = pose.light.position_mm;
+  view->light_intensity = pose.light.intensity;
+}
+
 TEST_CASE("a Spectralon smaller than the sample: points off the board are dropped, not divided",
           "[pixel][session]") {
   // A 20 mm card seen by a reference camera whose pixels are its pixels, three of the set's
@@ -360,11 +387,7 @@ TEST_CASE("a Spectralon smaller than the sample: points off the board are droppe
   sim::RenderScene spectralon = card;
   spectralon.kind = sim::RenderScene::Kind::kSpectralon;
   spectralon.sample_size_mm = board_mm;
-  calib::ReferenceView reference;
-  const double f_ref = distance * n / size_mm;
-  reference.camera =
-      calib::CameraModel("LENSMODEL_PINHOLE", {f_ref, f_ref, (n - 1) / 2.0, (n - 1) / 2.0}, n, n);
-  reference.cam_from_sample = calib::CamFromSampleLookingAtCentre({0, 0, distance});
+  const calib::ReferenceView reference = CardReference(n, size_mm, distance);
   const double f_view = distance * 160 / 32.0;
   const calib::CameraModel view_camera("LENSMODEL_PINHOLE", {f_view, f_view, 79.5, 79.5}, 160, 160);
   std::vector<SessionView> views;
@@ -374,15 +397,7 @@ TEST_CASE("a Spectralon smaller than the sample: points off the board are droppe
     sv.name = "view " + std::to_string(v);
     sv.correspondence = calib::ComputeCorrespondence(
         reference, {view_camera, pose.cam_from_sample, pose.light.position_mm});
-    const sim::RadianceImage L =
-        sim::RenderRadiance(card, view_camera, pose.cam_from_sample, pose.light, 1);
-    const sim::RadianceImage Ls =
-        sim::RenderRadiance(spectralon, view_camera, pose.cam_from_sample, pose.light, 1);
-    for (int c = 0; c < 3; ++c) {
-      sv.sample[c] = {160, 160, L.Channel(c), {}};
-      sv.spectralon[c] = {160, 160, Ls.Channel(c), {}};
-    }
-    sv.light_in_sample_mm = pose.light.position_mm;
+    RenderView(card, spectralon, view_camera, pose, &sv);
     views.push_back(std::move(sv));
   }
   std::vector<FloatPlanes> maps;
@@ -437,11 +452,7 @@ TEST_CASE(
   spectralon.kind = sim::RenderScene::Kind::kSpectralon;
   spectralon.sample_size_mm = 200;
 
-  calib::ReferenceView reference;
-  const double f_ref = distance * n / size_mm;
-  reference.camera =
-      calib::CameraModel("LENSMODEL_PINHOLE", {f_ref, f_ref, (n - 1) / 2.0, (n - 1) / 2.0}, n, n);
-  reference.cam_from_sample = calib::CamFromSampleLookingAtCentre({0, 0, distance});
+  const calib::ReferenceView reference = CardReference(n, size_mm, distance);
   // Views: 160 px across 32 mm at normal incidence, 5 view pixels per card pixel.
   const double f_view = distance * 160 / 32.0;
   const calib::CameraModel view_camera("LENSMODEL_PINHOLE", {f_view, f_view, 79.5, 79.5}, 160, 160);
@@ -456,16 +467,7 @@ TEST_CASE(
     const std::string map_path = tmp / (std::to_string(v) + ".exr");
     WriteFloatPlanesExr(map_path, calib::ComputeCorrespondence(reference, calibrated));
     sv.correspondence = ReadFloatPlanesExr(map_path);
-    const sim::RadianceImage L =
-        sim::RenderRadiance(card, view_camera, pose.cam_from_sample, pose.light, 1);
-    const sim::RadianceImage Ls =
-        sim::RenderRadiance(spectralon, view_camera, pose.cam_from_sample, pose.light, 1);
-    for (int c = 0; c < 3; ++c) {
-      sv.sample[c] = {160, 160, L.Channel(c), {}};
-      sv.spectralon[c] = {160, 160, Ls.Channel(c), {}};
-    }
-    sv.light_in_sample_mm = pose.light.position_mm;
-    sv.light_intensity = pose.light.intensity;
+    RenderView(card, spectralon, view_camera, pose, &sv);
     views.push_back(std::move(sv));
   }
   // The same views without their Spectralon: the point-light model with the light's intensity.
