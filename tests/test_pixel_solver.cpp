@@ -427,6 +427,9 @@ TEST_CASE("a Spectralon smaller than the sample: points off the board are droppe
   // Both kinds are there to check: the board covers 36% of the card.
   CHECK(on > 300);
   CHECK(off > 300);
+  // Counted for the report: each off the board (and those within the margin of its edge).
+  CHECK(source.OffBoardObservations() >= off);
+  CHECK(source.OffBoardObservations() < off + on);
 }
 
 TEST_CASE(

@@ -75,6 +75,30 @@ std::array<double, 3> BoardLevel(const SessionView& view) {
   return level;
 }
 
+// How many of the map's visible points of the view the Spectralon does not read its board at, in
+// some channel (the rule CorrespondenceSource::Rows applies).
+long OffBoardPoints(const SessionView& view, const std::array<double, 3>& level) {
+  if (view.spectralon[0].empty()) return 0;
+  const FloatPlanes& m = view.correspondence;
+  const auto &x = m.Plane("x", view.name), &y = m.Plane("y", view.name);
+  const auto& visible = m.Plane("visible", view.name);
+  const auto &sx = m.Plane("sample.x", view.name), &sy = m.Plane("sample.y", view.name);
+  const auto& iz = m.Plane("wi.z", view.name);
+  long off = 0;
+  for (std::size_t q = 0; q < x.size(); ++q) {
+    if (!(visible[q] > 0.5f) || !std::isfinite(x[q])) continue;
+    const double r2 = (view.light_in_sample_mm - Eigen::Vector3d(sx[q], sy[q], 0)).squaredNorm();
+    const double floor = kMinSpectralonShare * std::max(double(iz[q]), 0.0) / r2;
+    bool any = false;
+    for (int c = 0; c < 3 && !any; ++c) {
+      const float Ls = Sample(view.spectralon[c], x[q], y[q]);
+      any = std::isfinite(Ls) && !(double(Ls) >= floor * level[std::size_t(c)]);
+    }
+    off += any;
+  }
+  return off;
+}
+
 }  // namespace
 
 ViewImage::ViewImage(int width, int height, std::vector<float> radiance,
@@ -109,6 +133,7 @@ CorrespondenceSource::CorrespondenceSource(std::vector<SessionView> views, doubl
       if (!v.spectralon[c].empty()) CheckImage(v.spectralon[c], v.name + " (Spectralon)");
     }
     board_level_.push_back(BoardLevel(v));
+    off_board_ += OffBoardPoints(v, board_level_.back());
   }
 }
 
@@ -144,14 +169,14 @@ PixelObservations CorrespondenceSource::Rows(int y0, int rows) {
       const Eigen::Vector3d point(sx[q], sy[q], 0);
       const double r = (view.light_in_sample_mm - point).norm();
       // What the board reads at this point under the view's light, at least (kMinSpectralonShare).
-      const double board_share = kMinSpectralonShare * std::max(double(iz[q]), 0.0) / (r * r);
+      const double floor = kMinSpectralonShare * std::max(double(iz[q]), 0.0) / (r * r);
       for (int c = 0; c < 3; ++c) {
         const float L = Sample(view.sample[c], x[q], y[q]);
         if (!std::isfinite(L)) continue;
         double f;
         if (spectralon) {
           const float Ls = Sample(view.spectralon[c], x[q], y[q]);
-          const bool on_board = double(Ls) >= board_share * level[std::size_t(c)];
+          const bool on_board = double(Ls) >= floor * level[std::size_t(c)];
           f = std::isfinite(Ls) && on_board ? BrdfFromSpectralon(L, Ls) : std::nan("");
         } else {
           f = BrdfFromPointLight(L, view.light_intensity, r, iz[q]);

@@ -80,11 +80,15 @@ class CorrespondenceSource : public ObservationSource {
   double PixelSizeMm() const override { return pixel_size_mm_; }
   std::string Describe() const override;
   PixelObservations Rows(int y0, int rows) override;
+  // Observations (a pixel in a view, visible there) that Rows drops in some channel because the
+  // Spectralon does not read its board at the point (kMinSpectralonShare); counted once, here.
+  long OffBoardObservations() const { return off_board_; }
 
  private:
   std::vector<SessionView> views_;
   // Per view and channel, the Spectralon's median L r^2 / cos(theta_i) (0: no Spectralon).
   std::vector<std::array<double, 3>> board_level_;
+  long off_board_ = 0;
   int width_ = 0, height_ = 0;
   double pixel_size_mm_ = 0;
 };

@@ -27,6 +27,9 @@ struct ReconstructionReport {
   long no_observation = 0;        // no usable view at all
   long too_few_observations = 0;  // fewer than PixelSolveOptions::MinObservations()
   long poorly_conditioned = 0;    // enough views, condition number over the limit
+  // A session's: observations dropped where the Spectralon did not read its board at the point
+  // (CorrespondenceSource::OffBoardObservations); set by the session's processing.
+  long off_spectralon_observations = 0;
   ReconstructionMethod method = ReconstructionMethod::kIndependent;
   PooledModel model;         // kPooled: the groups and model sizes chosen
   long pooled = 0;           // kPooled: pixels solved with their group's prior (the rest alone)

@@ -173,7 +173,10 @@ ReconstructionReport ReconstructMap(const Plan& plan, const MappedBasis& mapped,
   info.basis = plan.reconstruction.basis_file;
   info.basis_crc32 = mapped.Checksum();
   info.camera_model = dir + "/calibration/camera.cameramodel";
-  return Reconstruct(mapped.View(), source, options, info, dir + "/svbrdf.exr");
+  ReconstructionReport report =
+      Reconstruct(mapped.View(), source, options, info, dir + "/svbrdf.exr");
+  report.off_spectralon_observations = source.OffBoardObservations();
+  return report;
 }
 
 }  // namespace

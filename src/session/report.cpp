@@ -76,6 +76,7 @@ std::string SessionReport::Json() const {
               {"no_observation", r.no_observation},
               {"too_few_observations", r.too_few_observations},
               {"poorly_conditioned", r.poorly_conditioned},
+              {"off_spectralon_observations", r.off_spectralon_observations},
               {"method", ReconstructionMethodName(r.method)}};
   if (r.method == ReconstructionMethod::kPooled) {
     Json groups = Json::array(), tried = Json::array();
@@ -284,6 +285,13 @@ std::string ResultText(const ProcessReport& p) {
                 r.pixels ? 100.0 * double(r.valid) / double(r.pixels) : 0.0, r.no_observation,
                 r.too_few_observations, r.poorly_conditioned);
   t << line;
+  if (r.off_spectralon_observations > 0) {
+    std::snprintf(line, sizeof line,
+                  "  %ld observations dropped where the Spectralon did not read its board at the "
+                  "point (off its edge, or shadowed): cover the sample with the board\n",
+                  r.off_spectralon_observations);
+    t << line;
+  }
   if (r.method == ReconstructionMethod::kPooled) {
     t << r.model.Summary();
     std::snprintf(line, sizeof line, "pooled: %ld pixels with their group's prior, %ld alone\n",
