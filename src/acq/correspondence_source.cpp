@@ -41,31 +41,64 @@ void CheckImage(const ViewImage& im, const std::string& what) {
     throw UserError(what, "flags do not match the image's size");
 }
 
+// The planes of a view's correspondence map (calib/correspondence.h), looked up once.
+struct MapPlanes {
+  explicit MapPlanes(const SessionView& view)
+      : x(Get(view, "x")),
+        y(Get(view, "y")),
+        visible(Get(view, "visible")),
+        sx(Get(view, "sample.x")),
+        sy(Get(view, "sample.y")),
+        ix(Get(view, "wi.x")),
+        iy(Get(view, "wi.y")),
+        iz(Get(view, "wi.z")),
+        ox(Get(view, "wo.x")),
+        oy(Get(view, "wo.y")),
+        oz(Get(view, "wo.z")),
+        light(view.light_in_sample_mm) {}
+  const std::vector<float>&x, &y, &visible, &sx, &sy, &ix, &iy, &iz, &ox, &oy, &oz;
+  Eigen::Vector3d light;  // the view's light, sample frame
+
+  // The point is seen in the view and lands on its image.
+  bool Seen(std::size_t q) const { return visible[q] > 0.5f && std::isfinite(x[q]); }
+  double LightDistance2(std::size_t q) const {
+    return (light - Eigen::Vector3d(sx[q], sy[q], 0)).squaredNorm();
+  }
+  // L_spectralon r^2 / cos(theta_i): constant over a Lambertian board under a point light.
+  double BoardLevelOf(float Ls, std::size_t q) const {
+    return double(Ls) * LightDistance2(q) / double(iz[q]);
+  }
+  // Whether a Spectralon reading at point q is the board's: at least kMinSpectralonShare of what
+  // the view's light gives the board there (its level cos(theta_i) / r^2). The one rule.
+  bool ReadsBoard(float Ls, double level, std::size_t q) const {
+    return std::isfinite(Ls) && double(Ls) >= kMinSpectralonShare * level *
+                                                  std::max(double(iz[q]), 0.0) / LightDistance2(q);
+  }
+
+ private:
+  static const std::vector<float>& Get(const SessionView& view, const char* plane) {
+    return view.correspondence.Plane(plane, view.name);
+  }
+};
+
 // Where the view's light falls on the sample at a cosine this low, the board's reading is too
 // small and too steep a function of the point to set its level.
 constexpr double kLevelMinCos = 0.05;
 
-// The view's Spectralon level per channel: L_spectralon r^2 / cos(theta_i), which a Lambertian
-// board under a point light keeps constant, at its kLevelPercentile over the map's visible
-// points: a high percentile, so that a board covering as little as a fifth of the sample sets it
-// (its noise, a few percent, moves the level by as much; the share allows for far more).
+// The view's Spectralon level per channel (MapPlanes::BoardLevelOf) at its kLevelPercentile over
+// the map's seen points: a high percentile, so that a board covering as little as a fifth of the
+// sample sets it (its noise, a few percent, moves the level by as much; the share allows for far
+// more).
 constexpr double kLevelPercentile = 0.8;
-std::array<double, 3> BoardLevel(const SessionView& view) {
+std::array<double, 3> BoardLevel(const SessionView& view, const MapPlanes& m) {
   std::array<double, 3> level{0, 0, 0};
   if (view.spectralon[0].empty()) return level;
-  const FloatPlanes& m = view.correspondence;
-  const auto &x = m.Plane("x", view.name), &y = m.Plane("y", view.name);
-  const auto& visible = m.Plane("visible", view.name);
-  const auto &sx = m.Plane("sample.x", view.name), &sy = m.Plane("sample.y", view.name);
-  const auto& iz = m.Plane("wi.z", view.name);
   for (int c = 0; c < 3; ++c) {
     std::vector<double> values;
-    for (std::size_t q = 0; q < x.size(); ++q) {
-      if (!(visible[q] > 0.5f) || !std::isfinite(x[q]) || !(iz[q] > kLevelMinCos)) continue;
-      const float Ls = Sample(view.spectralon[c], x[q], y[q]);
-      if (!(Ls > 0)) continue;
-      const double r2 = (view.light_in_sample_mm - Eigen::Vector3d(sx[q], sy[q], 0)).squaredNorm();
-      values.push_back(double(Ls) * r2 / double(iz[q]));
+    for (std::size_t q = 0; q < m.x.size(); ++q) {
+      if (!m.Seen(q) || !(m.iz[q] > kLevelMinCos)) continue;
+      const float Ls = Sample(view.spectralon[c], m.x[q], m.y[q]);
+      if (Ls > 0) values.push_back(m.BoardLevelOf(Ls, q));
     }
     if (values.empty()) continue;
     const auto at = values.begin() + std::ptrdiff_t(kLevelPercentile * double(values.size() - 1));
@@ -75,24 +108,18 @@ std::array<double, 3> BoardLevel(const SessionView& view) {
   return level;
 }
 
-// How many of the map's visible points of the view the Spectralon does not read its board at, in
-// some channel (the rule CorrespondenceSource::Rows applies).
-long OffBoardPoints(const SessionView& view, const std::array<double, 3>& level) {
+// How many of the map's seen points of the view the Spectralon does not read its board at, in
+// some channel (MapPlanes::ReadsBoard, as CorrespondenceSource::Rows applies it).
+long OffBoardPoints(const SessionView& view, const MapPlanes& m,
+                    const std::array<double, 3>& level) {
   if (view.spectralon[0].empty()) return 0;
-  const FloatPlanes& m = view.correspondence;
-  const auto &x = m.Plane("x", view.name), &y = m.Plane("y", view.name);
-  const auto& visible = m.Plane("visible", view.name);
-  const auto &sx = m.Plane("sample.x", view.name), &sy = m.Plane("sample.y", view.name);
-  const auto& iz = m.Plane("wi.z", view.name);
   long off = 0;
-  for (std::size_t q = 0; q < x.size(); ++q) {
-    if (!(visible[q] > 0.5f) || !std::isfinite(x[q])) continue;
-    const double r2 = (view.light_in_sample_mm - Eigen::Vector3d(sx[q], sy[q], 0)).squaredNorm();
-    const double floor = kMinSpectralonShare * std::max(double(iz[q]), 0.0) / r2;
+  for (std::size_t q = 0; q < m.x.size(); ++q) {
+    if (!m.Seen(q)) continue;
     bool any = false;
     for (int c = 0; c < 3 && !any; ++c) {
-      const float Ls = Sample(view.spectralon[c], x[q], y[q]);
-      any = std::isfinite(Ls) && !(double(Ls) >= floor * level[std::size_t(c)]);
+      const float Ls = Sample(view.spectralon[c], m.x[q], m.y[q]);
+      any = std::isfinite(Ls) && !m.ReadsBoard(Ls, level[std::size_t(c)], q);
     }
     off += any;
   }
@@ -132,8 +159,9 @@ CorrespondenceSource::CorrespondenceSource(std::vector<SessionView> views, doubl
       CheckImage(v.sample[c], v.name + " (sample image)");
       if (!v.spectralon[c].empty()) CheckImage(v.spectralon[c], v.name + " (Spectralon)");
     }
-    board_level_.push_back(BoardLevel(v));
-    off_board_ += OffBoardPoints(v, board_level_.back());
+    const MapPlanes planes(v);
+    board_level_.push_back(BoardLevel(v, planes));
+    off_board_ += OffBoardPoints(v, planes, board_level_.back());
   }
 }
 
@@ -149,37 +177,25 @@ PixelObservations CorrespondenceSource::Rows(int y0, int rows) {
   obs.width = width_;
   for (int v = 0; v < nviews; ++v) {
     const SessionView& view = views_[std::size_t(v)];
-    const FloatPlanes& m = view.correspondence;
-    const auto &x = m.Plane("x", view.name), &y = m.Plane("y", view.name);
-    const auto& visible = m.Plane("visible", view.name);
-    const auto &sx = m.Plane("sample.x", view.name), &sy = m.Plane("sample.y", view.name);
-    const auto &ix = m.Plane("wi.x", view.name), &iy = m.Plane("wi.y", view.name),
-               &iz = m.Plane("wi.z", view.name);
-    const auto &ox = m.Plane("wo.x", view.name), &oy = m.Plane("wo.y", view.name),
-               &oz = m.Plane("wo.z", view.name);
+    const MapPlanes m(view);
     const bool spectralon = !view.spectralon[0].empty();
     const std::array<double, 3>& level = board_level_[std::size_t(v)];
 #pragma omp parallel for schedule(static)
     for (int p = 0; p < rows * width_; ++p) {
       const std::size_t q = std::size_t(y0) * std::size_t(width_) + std::size_t(p);
       const std::size_t at = obs.At(p, v);
-      obs.light[at] = Eigen::Vector3f(ix[q], iy[q], iz[q]);
-      obs.camera[at] = Eigen::Vector3f(ox[q], oy[q], oz[q]);
-      if (!(visible[q] > 0.5f) || !std::isfinite(x[q])) continue;  // stays NaN: dropped
-      const Eigen::Vector3d point(sx[q], sy[q], 0);
-      const double r = (view.light_in_sample_mm - point).norm();
-      // What the board reads at this point under the view's light, at least (kMinSpectralonShare).
-      const double floor = kMinSpectralonShare * std::max(double(iz[q]), 0.0) / (r * r);
+      obs.light[at] = Eigen::Vector3f(m.ix[q], m.iy[q], m.iz[q]);
+      obs.camera[at] = Eigen::Vector3f(m.ox[q], m.oy[q], m.oz[q]);
+      if (!m.Seen(q)) continue;  // stays NaN: dropped
       for (int c = 0; c < 3; ++c) {
-        const float L = Sample(view.sample[c], x[q], y[q]);
+        const float L = Sample(view.sample[c], m.x[q], m.y[q]);
         if (!std::isfinite(L)) continue;
         double f;
         if (spectralon) {
-          const float Ls = Sample(view.spectralon[c], x[q], y[q]);
-          const bool on_board = double(Ls) >= floor * level[std::size_t(c)];
-          f = std::isfinite(Ls) && on_board ? BrdfFromSpectralon(L, Ls) : std::nan("");
+          const float Ls = Sample(view.spectralon[c], m.x[q], m.y[q]);
+          f = m.ReadsBoard(Ls, level[std::size_t(c)], q) ? BrdfFromSpectralon(L, Ls) : std::nan("");
         } else {
-          f = BrdfFromPointLight(L, view.light_intensity, r, iz[q]);
+          f = BrdfFromPointLight(L, view.light_intensity, std::sqrt(m.LightDistance2(q)), m.iz[q]);
         }
         obs.rgb[3 * at + std::size_t(c)] = float(f);
       }

@@ -86,7 +86,7 @@ class CorrespondenceSource : public ObservationSource {
 
  private:
   std::vector<SessionView> views_;
-  // Per view and channel, the Spectralon's median L r^2 / cos(theta_i) (0: no Spectralon).
+  // Per view and channel, the Spectralon's level of L r^2 / cos(theta_i) (0: no Spectralon).
   std::vector<std::array<double, 3>> board_level_;
   long off_board_ = 0;
   int width_ = 0, height_ = 0;
