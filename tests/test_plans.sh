@@ -137,6 +137,9 @@ expect "normals prior negative" 1 negative_normals_prior.yaml --dry-run -- \
 variant many_trimmed 's/^  k: 4$/  k: 4\n  normals_trimmed_views: 9/'
 expect "normals trimmed views out of range" 1 many_trimmed.yaml --dry-run -- \
   "many_trimmed.yaml:23:" "reconstruction.normals_trimmed_views is 9, outside 0 to 4"
+variant negative_uncertainty 's/^  k: 4$/  k: 4\n  normals_max_uncertainty_deg: -2/'
+expect "normals max uncertainty negative" 1 negative_uncertainty.yaml --dry-run -- \
+  "negative_uncertainty.yaml:23:" "reconstruction.normals_max_uncertainty_deg must be >= 0 degrees"
 variant empty_bracket 's/bracket_us: \[1000, 8000, 64000\]/bracket_us: []/'
 expect "empty bracket" 1 empty_bracket.yaml --dry-run -- "empty_bracket.yaml:13:" \
   "camera.hdr.bracket_us is empty" "auto: true"

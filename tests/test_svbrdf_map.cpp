@@ -25,20 +25,21 @@ TEST_CASE("SVBRDF map: written band by band, read back identical, with its metad
   info.pixel_size_mm = 0.25;
   info.source = "test";
   const std::vector<std::string> names = SvbrdfChannelNames(3);
-  REQUIRE(names.size() == 19);
+  REQUIRE(names.size() == 20);
   CHECK(names[0] == "R.c00");
   CHECK(names[8] == "B.c02");
   CHECK(names[12] == "residual");
   CHECK(names[14] == "departure");
   CHECK(names[15] == "normal.x");
   CHECK(names[18] == "normal_status");
+  CHECK(names[19] == "normal_uncertainty_deg");
   auto value = [](int c, int x, int y) { return float(c * 1000 + y * 10 + x) + 0.5f; };
   {
     SvbrdfMapWriter w(dir / "m.exr", info);
     for (int y0 : {0, 2, 4}) {  // bands of 2, 2 and 1 rows
       const int rows = std::min(2, 5 - y0);
-      std::vector<std::vector<float>> planes(19, std::vector<float>(rows * 7));
-      for (int c = 0; c < 19; ++c)
+      std::vector<std::vector<float>> planes(20, std::vector<float>(rows * 7));
+      for (int c = 0; c < 20; ++c)
         for (int y = 0; y < rows; ++y)
           for (int x = 0; x < 7; ++x) planes[c][y * 7 + x] = value(c, x, y0 + y);
       planes[11][0] = std::numeric_limits<float>::infinity();  // a condition of inf survives
@@ -62,6 +63,7 @@ TEST_CASE("SVBRDF map: written band by band, read back identical, with its metad
   CHECK(std::isinf(map.Plane("condition", 0, 2)));
   CHECK(map.Plane("group", 2, 3) == value(13, 2, 3));
   CHECK(map.Plane("normal.z", 2, 3) == value(17, 2, 3));
+  CHECK(map.Plane("normal_uncertainty_deg", 1, 4) == value(19, 1, 4));
   CHECK(map.info.method == "independent");
   // The colour space is stated for any OpenEXR reader: Rec. 709's primaries and D65 white.
   const Imf::InputFile file((dir / "m.exr").c_str());

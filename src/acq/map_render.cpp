@@ -299,7 +299,9 @@ std::vector<std::string> WriteQuickLooks(const SvbrdfMap& map, const BasisView& 
   if (HasEstimatedNormals(map)) {
     WriteNormalPng(map, stem + "normal.png");
     WriteHeightPng(map, stem + "height.png");
-    names.insert(names.end(), {"normal", "height"});
+    // Black where no normal was estimated (-1), then brighter the less the data fix it.
+    WriteDiagnosticPng(map, "normal_uncertainty_deg", stem + "normal_uncertainty.png");
+    names.insert(names.end(), {"normal", "height", "normal_uncertainty"});
   }
   return names;
 }

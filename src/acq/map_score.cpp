@@ -121,6 +121,7 @@ NormalScore ScoreNormals(const SvbrdfMap& map, const std::vector<Eigen::Vector3f
                                         " labels for a map of " + std::to_string(w) + " x " +
                                         std::to_string(h) + " pixels");
   std::vector<double> relief, assumed, flat, one_material, ink_edges;
+  std::vector<double> uncertainty, certain, uncertain;
   std::vector<std::vector<double>> flat_by_material;
   NormalScore score;
   score.error_deg.resize(truth.size());
@@ -143,8 +144,12 @@ NormalScore ScoreNormals(const SvbrdfMap& map, const std::vector<Eigen::Vector3f
           flat_by_material[std::size_t(label)].push_back(error);
         }
       }
+      const float radius = map.Plane("normal_uncertainty_deg", x, y);
+      const bool estimated = status == float(NormalStatus::kEstimated);
+      if (estimated) uncertainty.push_back(radius);
       if (!(tilt > DegToRad(0.5))) continue;
       relief.push_back(error);
+      if (estimated) (radius <= kCertainNormalDeg ? certain : uncertain).push_back(error);
       assumed.push_back(RadToDeg(tilt));
       if (!labels.empty())
         (NearInkEdge(labels, w, h, x, y) ? ink_edges : one_material).push_back(error);
@@ -160,6 +165,11 @@ NormalScore ScoreNormals(const SvbrdfMap& map, const std::vector<Eigen::Vector3f
   score.flat_pixels = long(flat.size());
   score.relief_pixels_one_material = long(one_material.size());
   score.relief_pixels_ink_edges = long(ink_edges.size());
+  score.median_uncertainty_deg = MedianOrNan(uncertainty);
+  score.median_error_deg_relief_certain = MedianOrNan(certain);
+  score.median_error_deg_relief_uncertain = MedianOrNan(uncertain);
+  score.relief_pixels_certain = long(certain.size());
+  score.relief_pixels_uncertain = long(uncertain.size());
   return score;
 }
 

@@ -47,11 +47,19 @@ struct NormalScore {
   // where it has none). A search that tilts one material's flat patch shows here, where the
   // median over the whole sample hides it.
   std::vector<double> material_median_tilt_deg_flat;
+  // The estimated pixels' uncertainty (the map's normal_uncertainty_deg): its median, and the
+  // relief's estimated pixels split at kCertainNormalDeg: how well the uncertainty foretells
+  // the error (NaN where none).
+  double median_uncertainty_deg = 0;
+  double median_error_deg_relief_certain = 0, median_error_deg_relief_uncertain = 0;
+  long relief_pixels_certain = 0, relief_pixels_uncertain = 0;
   std::vector<float> error_deg;  // per map pixel, row-major: the estimate's angle to the truth
 };
 // How far (map pixels) another material makes a pixel an ink edge's: a view 65 degrees off the
 // normal sees a map pixel's point through a camera pixel 2.4 map pixels long.
 constexpr int kInkEdgeReach = 2;
+// NormalScore's split of the relief by the estimate's uncertainty (degrees).
+constexpr double kCertainNormalDeg = 1;
 // `truth[pixel]`: the true normal (sample frame, unit) of each map pixel, row-major; `labels`
 // (optional, same order): the true material, for the split by ink edges.
 NormalScore ScoreNormals(const SvbrdfMap& map, const std::vector<Eigen::Vector3f>& truth,

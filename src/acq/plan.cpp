@@ -612,10 +612,10 @@ SimSpec ReadSim(const YAML::Node& root, const Section& top, const std::string& b
 }
 
 ReconstructionSpec ReadReconstruction(const Section& top, const std::string& base) {
-  const Section recon =
-      top.Child("reconstruction",
-                {"basis", "k", "eta", "lookup", "row_tile", "method", "groups", "design_sigma_deg",
-                 "normals", "normals_prior", "normals_mixed_pixels", "normals_trimmed_views"});
+  const Section recon = top.Child(
+      "reconstruction", {"basis", "k", "eta", "lookup", "row_tile", "method", "groups",
+                         "design_sigma_deg", "normals", "normals_prior", "normals_mixed_pixels",
+                         "normals_trimmed_views", "normals_max_uncertainty_deg"});
   ReconstructionSpec r;
   r.basis_file = Resolve(base, recon.Required("basis"));
   RequireFile(recon, "basis", r.basis_file, "build one with `acq basis build` (README)");
@@ -643,6 +643,8 @@ ReconstructionSpec ReadReconstruction(const Section& top, const std::string& bas
   r.normals_mixed_pixels = recon.Flag("normals_mixed_pixels", r.normals_mixed_pixels);
   r.normals_trimmed_views = int(
       recon.Integer("normals_trimmed_views", r.normals_trimmed_views, 0, kMaxNormalsTrimmedViews));
+  r.normals_max_uncertainty_deg =
+      recon.Number("normals_max_uncertainty_deg", r.normals_max_uncertainty_deg);
   recon.Checked([&] { r.Check(); });
   return r;
 }
@@ -742,6 +744,9 @@ void ReconstructionSpec::Check() const {
   if (!(normals_prior >= 0))
     throw UserError("normals_prior", "must be >= 0",
                     "it weighs how near the sample's normal a pixel's normal stays; 0 for none");
+  if (!(normals_max_uncertainty_deg >= 0))
+    throw UserError("normals_max_uncertainty_deg", "must be >= 0 degrees",
+                    "0 (the default) keeps every estimated normal, however uncertain");
 }
 
 namespace {

@@ -133,6 +133,8 @@ struct ReconstructionSpec {  // reconstruction:
   double normals_prior = kDefaultNormalsPrior;              // NormalSearchOptions::prior
   bool normals_mixed_pixels = kDefaultNormalsMixedPixels;   // NormalSearchOptions::mixed_pixels
   int normals_trimmed_views = kDefaultNormalsTrimmedViews;  // NormalSearchOptions::trimmed_views
+  // NormalSearchOptions::max_uncertainty_deg
+  double normals_max_uncertainty_deg = kDefaultNormalsMaxUncertaintyDeg;
   void Check() const;
 };
 

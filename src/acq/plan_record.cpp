@@ -215,6 +215,9 @@ std::vector<PlanSetting> PlanSettings(const Plan& plan) {
   if (plan.reconstruction.normals_trimmed_views != kDefaultNormalsTrimmedViews)
     s.Processing("reconstruction.normals_trimmed_views",
                  std::to_string(plan.reconstruction.normals_trimmed_views));
+  if (plan.reconstruction.normals_max_uncertainty_deg != kDefaultNormalsMaxUncertaintyDeg)
+    s.Processing("reconstruction.normals_max_uncertainty_deg",
+                 Number(plan.reconstruction.normals_max_uncertainty_deg));
   return s.out;
 }
 

@@ -76,6 +76,7 @@ void SettleUnexplainedNormals(const BasisView& basis, const PixelObservations& a
   for (int p : back) {
     normals->normal[std::size_t(p)] = Eigen::Vector3f::UnitZ();
     normals->status[std::size_t(p)] = NormalStatus::kAssumed;
+    normals->uncertainty_deg[std::size_t(p)] = kNoNormalUncertainty;
   }
 }
 
@@ -215,6 +216,7 @@ ReconstructionReport Reconstruct(const BasisView& basis, ObservationSource& sour
       band[3 * k + 5][p] = solution.departure[p];
       for (int a = 0; a < 3; ++a) band[3 * k + 6 + a][p] = normals.normal[p][a];
       band[3 * k + 9][p] = float(normals.status[p]);
+      band[3 * k + 10][p] = normals.uncertainty_deg[p];
       report.normals_estimated += normals.status[p] == NormalStatus::kEstimated;
       report.normals_refused += normals.status[p] == NormalStatus::kRefused;
       report.normals_no_evidence += normals.status[p] == NormalStatus::kNoEvidence;

@@ -467,6 +467,9 @@ void NormalSearchOptions::Check(const BasisView& basis) const {
   if (coarse_reach < 1 || coarse_reach > 4)
     throw UserError("normals coarse reach", "must be in [1, 4]");
   if (chunk_pixels < 1) throw UserError("normals chunk", "must be at least 1");
+  if (!(max_uncertainty_deg >= 0))
+    throw UserError("normals max uncertainty", "must be >= 0 degrees (0: no limit), got " +
+                                                   std::to_string(max_uncertainty_deg));
   if (trimmed_views < 0 || trimmed_views > kMaxNormalsTrimmedViews)
     throw UserError("normals trimmed views",
                     "must be in [0, " + std::to_string(kMaxNormalsTrimmedViews) + "], got " +
@@ -477,6 +480,7 @@ void NormalSearchOptions::Check(const BasisView& basis) const {
 void PixelNormals::Resize(int pixels) {
   normal.assign(pixels, Eigen::Vector3f::UnitZ());
   status.assign(pixels, NormalStatus::kAssumed);
+  uncertainty_deg.assign(pixels, kNoNormalUncertainty);
 }
 
 void ToFacetFrame(const Eigen::Vector3f& n, double min_cos, const PixelObservations& from,
@@ -507,7 +511,34 @@ struct ChunkSearch {
   std::vector<Candidate> by_data;
   // Criterion kCentre: the views seen dark that the best's facet faces (SeenDarkWhereLit).
   std::vector<int> seen_dark;
+  // Per pixel, per level of the search: the level's step (slope units) and the lowest misfit
+  // among its candidates at least half a step from the best it started from (Uncertainty).
+  struct Ring {
+    float step = 0;
+    double misfit = std::numeric_limits<double>::infinity();
+  };
+  std::vector<std::vector<Ring>> rings;
+  // PixelNormals::uncertainty_deg of the best: the largest step whose ring scored within the
+  // 95% region of two parameters around the best's misfit.
+  float Uncertainty(int p) const;
 };
+
+// Half the 95% quantile of chi-square with two degrees of freedom (5.99): a candidate whose
+// profile log-likelihood, (N / 2) ln(misfit^2 / best misfit^2) over N residuals, lies within this
+// of the best's is one the data cannot tell from it.
+constexpr double kUncertaintyLogLikelihood = 5.99 / 2;
+
+float ChunkSearch::Uncertainty(int p) const {
+  const Candidate& b = best[std::size_t(p)];
+  if (!(b.misfit > 0) || b.views <= 0) return 0;
+  const double residuals = 3.0 * b.views;
+  float radius = 0;
+  for (const Ring& ring : rings[std::size_t(p)])
+    if (residuals / 2 * std::log(ring.misfit * ring.misfit / (b.misfit * b.misfit)) <
+        kUncertaintyLogLikelihood)
+      radius = std::max(radius, float(RadToDeg(std::atan(ring.step))));
+  return radius;
+}
 
 // The minimum of the quadratic through a 3 x 3 grid of scores f[a + 1][b + 1] at offsets
 // (a, b) steps from its centre (least squares: 9 values, 6 coefficients), in steps and clamped
@@ -588,7 +619,13 @@ ChunkSearch SearchChunk(const BasisView& basis, const PixelObservations& obs, in
           if (s.norm() <= cone * 1.0001f) lists[p].push_back({s});
         }
     const std::vector<std::vector<Candidate>> scored = score(lists);
+    if (level == 0) c.rings.assign(count, {});
     for (int p = 0; p < count; ++p) {
+      ChunkSearch::Ring ring{step};
+      for (const Candidate& cand : scored[p])
+        if ((cand.slope - c.best[p].slope).norm() > 0.5f * step)
+          ring.misfit = std::min(ring.misfit, cand.misfit);
+      c.rings[p].push_back(ring);
       if (level == 0)
         for (const Candidate& cand : scored[p])
           if (cand.slope.isZero()) c.flat[p] = cand;
@@ -665,6 +702,12 @@ PixelNormals EstimateNormals(const BasisView& basis, PixelObservations* obs,
       }
       if (!TiltEarnsItsKeep(c.flat[p], best, o.evidence)) {
         out.status[first + p] = NormalStatus::kNoEvidence;
+        continue;
+      }
+      out.uncertainty_deg[first + p] = c.Uncertainty(p);
+      // The data fix the normal less well than the user asked for.
+      if (o.max_uncertainty_deg > 0 && out.uncertainty_deg[first + p] > o.max_uncertainty_deg) {
+        out.status[first + p] = NormalStatus::kRefused;
         continue;
       }
       const Eigen::Vector3f n = NormalOfSlope(best.slope.x(), best.slope.y());

@@ -27,7 +27,8 @@ enum class NormalStatus : std::uint8_t {
   kAssumed = 0,     // not estimated: the sample's normal (search off, or no usable view)
   kEstimated = 1,   // the search's minimum, inside its cone
   kRefused = 2,     // the minimum lay on the cone's edge, or a view its facet faces was seen
-                    // dark (relief too steep for the search, or the data cannot tell): the
+                    // dark (relief too steep for the search, or the data cannot tell), or its
+                    // uncertainty exceeded NormalSearchOptions::max_uncertainty_deg: the
                     // sample's normal kept, flagged
   kNoEvidence = 3,  // the best tilt did not lower the misfit enough to pay for its two
                     // parameters (NormalSearchOptions::evidence): the sample's normal kept
@@ -61,6 +62,7 @@ inline constexpr double kDefaultNormalsPrior = 0.5;
 inline constexpr bool kDefaultNormalsMixedPixels = true;  // NormalSearchOptions::mixed_pixels
 inline constexpr int kDefaultNormalsTrimmedViews = 1;     // NormalSearchOptions::trimmed_views
 inline constexpr int kMaxNormalsTrimmedViews = 4;
+inline constexpr double kDefaultNormalsMaxUncertaintyDeg = 0;  // no limit
 
 struct NormalSearchOptions {
   bool enabled = false;
@@ -117,14 +119,30 @@ struct NormalSearchOptions {
   // where no footprint straddles facets, it costs up to 0.19 degree). The group's misfit limit
   // (PooledGroup::misfit_limit, over every view) is then a little more lenient than it was.
   int trimmed_views = kDefaultNormalsTrimmedViews;
+  // An estimated normal whose uncertainty (PixelNormals::uncertainty_deg) exceeds this many
+  // degrees is refused (the sample's normal kept, flagged); 0: no limit. A mirror-like ink's
+  // normal that no view's highlight pins lands in the gaps between the plan's half vectors,
+  // where a view the plan lacks then sees a highlight the sample does not have. Measured
+  // (docs/reconstruction.md, "How well the data fix a normal"): a limit trades the relief's
+  // normals for such views; hence none by default.
+  double max_uncertainty_deg = kDefaultNormalsMaxUncertaintyDeg;
   int chunk_pixels = 2048;  // pixels per batch of candidates (memory: chunk x 25 x views)
   void Check(const BasisView& basis) const;  // throws UserError
 };
 
+// A normal's uncertainty where none was estimated (PixelNormals::uncertainty_deg).
+inline constexpr float kNoNormalUncertainty = -1;
+
 struct PixelNormals {
   std::vector<Eigen::Vector3f> normal;  // per pixel, sample frame, unit
   std::vector<NormalStatus> status;
-  void Resize(int pixels);  // flat, kAssumed
+  // How far from the estimate (degrees) lie normals the pixel's data cannot tell from it: the
+  // largest step of the search at which a candidate that far scored within the 95% region of
+  // two parameters (profile likelihood of the RMS misfit over its 3 x views residuals); 0 when
+  // even the finest step's candidates lie outside. kNoNormalUncertainty where no normal was
+  // estimated, but set for a normal refused for it (NormalSearchOptions::max_uncertainty_deg).
+  std::vector<float> uncertainty_deg;
+  void Resize(int pixels);  // flat, kAssumed, kNoNormalUncertainty
 };
 
 // What criterion kCentre judges a normal by: the material groups (pooled_model.h) fitted on a

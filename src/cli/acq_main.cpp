@@ -86,7 +86,7 @@ const std::map<std::string, Command>& Commands() {
         "    [--normals-evidence 1] [--normals-estimated-min-cos 0]\n"
         "    [--normals-search grid|quadratic] [--normals-levels N] [--normals-coarse-reach 1] "
         "[--normals-single-centre]\n"
-        "    [--normals-trimmed-views 1]]\n"
+        "    [--normals-trimmed-views 1] [--normals-max-uncertainty-deg 0]]\n"
         "  Reconstructs a synthetic printed card from observations made straight from the\n"
         "  ground truth, per pixel, into an SVBRDF map (docs/svbrdf-map.md); --score compares\n"
         "  every pixel with its true material. --method pooled groups the pixels by material\n"

@@ -129,6 +129,11 @@ void PrintNormalScore(const SvbrdfMap& map, const sim::SyntheticSvbrdf& scene) {
       n.median_error_deg_relief_one_material, n.relief_pixels_one_material,
       n.median_error_deg_relief_ink_edges, n.relief_pixels_ink_edges, n.median_tilt_deg_flat,
       n.flat_pixels, n.refused, n.no_evidence);
+  std::printf(
+      "score: normals' uncertainty: median %.3f deg over the estimated pixels; relief error %.3f "
+      "deg median where %.0f deg or less (%ld pixels), %.3f where more (%ld)\n",
+      n.median_uncertainty_deg, n.median_error_deg_relief_certain, kCertainNormalDeg,
+      n.relief_pixels_certain, n.median_error_deg_relief_uncertain, n.relief_pixels_uncertain);
 }
 
 int ReconstructSynthetic(const Argv& argv) {
@@ -168,6 +173,7 @@ int ReconstructSynthetic(const Argv& argv) {
                                   "normals-evidence",
                                   "normals-estimated-min-cos",
                                   "normals-trimmed-views",
+                                  "normals-max-uncertainty-deg",
                                   "normals-search",
                                   "normals-levels",
                                   "normals-coarse-reach"};
@@ -239,6 +245,8 @@ int ReconstructSynthetic(const Argv& argv) {
   r.normals.mixed_pixels = !args.Has("normals-single-centre");
   r.normals.trimmed_views =
       args.GetInt("normals-trimmed-views", r.normals.trimmed_views, 0, kMaxNormalsTrimmedViews);
+  r.normals.max_uncertainty_deg =
+      args.GetDouble("normals-max-uncertainty-deg", r.normals.max_uncertainty_deg, 0, 90);
   r.normals.max_tilt_deg = args.GetDouble("normals-max-tilt-deg", r.normals.max_tilt_deg, 1, 59);
   r.normals.prior = args.GetDouble("normals-prior", r.normals.prior, 0, 1e6);
   r.normals.components = args.GetInt("normals-k", r.normals.components, 1, 64);

@@ -27,15 +27,24 @@ namespace {
 constexpr const char* kFormat = "acq-svbrdf-map 1";
 constexpr const char* kRowRule = "rows to the sample's -y (core/sample_grid.h)";
 
-const std::vector<std::string> kDiagnostics = {"valid",    "observations", "condition", "residual",
-                                               "group",    "departure",    "normal.x",  "normal.y",
-                                               "normal.z", "normal_status"};
+const std::vector<std::string> kDiagnostics = {"valid",
+                                               "observations",
+                                               "condition",
+                                               "residual",
+                                               "group",
+                                               "departure",
+                                               "normal.x",
+                                               "normal.y",
+                                               "normal.z",
+                                               "normal_status",
+                                               "normal_uncertainty_deg"};
 // Diagnostics a map may lack (written before they existed), with the value they read as.
 float OptionalDiagnostic(const std::string& name) {
   if (name == "group") return -1.0f;
   if (name == "departure" || name == "normal.x" || name == "normal.y") return 0.0f;
   if (name == "normal.z") return 1.0f;
   if (name == "normal_status") return 0.0f;
+  if (name == "normal_uncertainty_deg") return -1.0f;  // kNoNormalUncertainty: none estimated
   return std::numeric_limits<float>::quiet_NaN();
 }
 

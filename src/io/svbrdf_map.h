@@ -7,8 +7,10 @@
 // pixel's BRDF from its group's centre), "normal.x", "normal.y", "normal.z" (the pixel's shading
 // normal in the sample frame, its tangent space; (0, 0, 1) unless estimated) and
 // "normal_status" (brdf/normal_search.h NormalStatus: 0 assumed, 1 estimated, 2 refused, 3 no
-// evidence for a tilt). Header attributes name the basis and its checksum, the solve settings, the
-// reference camera model and the pixel size on the sample.
+// evidence for a tilt) and "normal_uncertainty_deg" (PixelNormals::uncertainty_deg: how far from
+// the estimate lie normals the data cannot tell from it; -1 where none was estimated). Header
+// attributes name the basis and its checksum, the solve settings, the reference camera model and
+// the pixel size on the sample.
 //
 // Written band by band in increasing y, so a 16-megapixel map never has to be in memory whole;
 // to a temporary name, renamed when complete, so a crash never leaves a truncated map.

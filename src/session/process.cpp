@@ -168,6 +168,7 @@ ReconstructionReport ReconstructMap(const Plan& plan, const MappedBasis& mapped,
   options.normals.prior = plan.reconstruction.normals_prior;
   options.normals.mixed_pixels = plan.reconstruction.normals_mixed_pixels;
   options.normals.trimmed_views = plan.reconstruction.normals_trimmed_views;
+  options.normals.max_uncertainty_deg = plan.reconstruction.normals_max_uncertainty_deg;
   options.progress = false;
   SvbrdfMapInfo info;
   info.basis = plan.reconstruction.basis_file;

@@ -208,7 +208,12 @@ std::string SessionReport::Json() const {
            return per;
          }()},
         {"refused", normals->refused},
-        {"no_evidence", normals->no_evidence}};
+        {"no_evidence", normals->no_evidence},
+        {"median_uncertainty_deg", finite(normals->median_uncertainty_deg)},
+        {"median_error_deg_relief_certain", finite(normals->median_error_deg_relief_certain)},
+        {"median_error_deg_relief_uncertain", finite(normals->median_error_deg_relief_uncertain)},
+        {"relief_pixels_certain", normals->relief_pixels_certain},
+        {"relief_pixels_uncertain", normals->relief_pixels_uncertain}};
   }
   if (scored) {
     j["ground_truth"]["validation"] = Json::array();
@@ -395,6 +400,14 @@ std::string TruthText(const SessionReport& s) {
                   n->median_error_deg_relief_one_material, n->relief_pixels_one_material,
                   n->median_error_deg_relief_ink_edges, n->relief_pixels_ink_edges,
                   n->median_tilt_deg_flat, n->refused, n->no_evidence);
+    t << line;
+    std::snprintf(line, sizeof line,
+                  "  normals' uncertainty: median %.2f deg over the estimated pixels; over the "
+                  "relief, error %.2f deg median where it is %.0f deg or less (%ld pixels), %.2f "
+                  "where more (%ld)\n",
+                  n->median_uncertainty_deg, n->median_error_deg_relief_certain, kCertainNormalDeg,
+                  n->relief_pixels_certain, n->median_error_deg_relief_uncertain,
+                  n->relief_pixels_uncertain);
     t << line;
   }
   for (const SessionReport::ValidationTruth& v : s.validation_truth) {
