@@ -145,7 +145,8 @@ NormalScore ScoreNormals(const SvbrdfMap& map, const std::vector<Eigen::Vector3f
         }
       }
       const float radius = map.Plane("normal_uncertainty_deg", x, y);
-      const bool estimated = status == float(NormalStatus::kEstimated);
+      // A map written before the plane reads -1 there: no uncertainty to split by.
+      const bool estimated = status == float(NormalStatus::kEstimated) && radius >= 0;
       if (estimated) uncertainty.push_back(radius);
       if (!(tilt > DegToRad(0.5))) continue;
       relief.push_back(error);
