@@ -3,6 +3,7 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
@@ -244,6 +245,34 @@ void WriteHeightPng(const SvbrdfMap& map, const std::string& path) {
   if (!cv::imwrite(path, out)) throw UserError(path, "cannot write PNG");
 }
 
+// Each estimated normal's uncertainty (normal_uncertainty_deg) in viridis, on a log scale from
+// the finest step in the map (dark) to the largest (yellow): the search's steps halve, so each
+// step is one band of colour. Black where no normal was estimated.
+void WriteNormalUncertaintyPng(const SvbrdfMap& map, const std::string& path) {
+  const int w = map.info.width, h = map.info.height;
+  float finest = std::numeric_limits<float>::infinity(), largest = 0;
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const float u = map.Plane("normal_uncertainty_deg", x, y);
+      if (u > 0) finest = std::min(finest, u);
+      largest = std::max(largest, u);
+    }
+  const double scale = largest > 0 && std::isfinite(finest) ? std::log1p(largest / finest) : 1;
+  cv::Mat level(h, w, CV_8UC1);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const float u = std::max(map.Plane("normal_uncertainty_deg", x, y), 0.0f);
+      level.at<uchar>(y, x) = cv::saturate_cast<uchar>(
+          std::isfinite(finest) ? 255 * std::log1p(u / finest) / scale : 0);
+    }
+  cv::Mat out;
+  cv::applyColorMap(level, out, cv::COLORMAP_VIRIDIS);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x)
+      if (map.Plane("normal_uncertainty_deg", x, y) < 0) out.at<cv::Vec3b>(y, x) = {0, 0, 0};
+  if (!cv::imwrite(path, out)) throw UserError(path, "cannot write PNG");
+}
+
 void WriteRgbExr(const RgbImage& image, const std::string& path) {
   FloatPlanes planes;
   planes.width = image.width;
@@ -299,8 +328,7 @@ std::vector<std::string> WriteQuickLooks(const SvbrdfMap& map, const BasisView& 
   if (HasEstimatedNormals(map)) {
     WriteNormalPng(map, stem + "normal.png");
     WriteHeightPng(map, stem + "height.png");
-    // Black where no normal was estimated (-1), then brighter the less the data fix it.
-    WriteDiagnosticPng(map, "normal_uncertainty_deg", stem + "normal_uncertainty.png");
+    WriteNormalUncertaintyPng(map, stem + "normal_uncertainty.png");
     names.insert(names.end(), {"normal", "height", "normal_uncertainty"});
   }
   return names;

@@ -77,10 +77,14 @@ void WriteNormalPng(const SvbrdfMap& map, const std::string& path);
 // black, highest white.
 void WriteHeightPng(const SvbrdfMap& map, const std::string& path);
 
+// Each estimated normal's uncertainty (normal_uncertainty_deg) in viridis on a log scale, black
+// where none was estimated.
+void WriteNormalUncertaintyPng(const SvbrdfMap& map, const std::string& path);
+
 // The quick looks of a map into `dir` as `prefix`NAME.png: the BRDF at a diffuse-looking and at
 // a mirror configuration (diffuse, specular), and the diagnostics (valid, observations,
-// condition, residual; group and departure for a pooled map; normal where normals were
-// estimated). Returns the NAMEs written.
+// condition, residual; group and departure for a pooled map; normal, height and
+// normal_uncertainty where normals were estimated). Returns the NAMEs written.
 std::vector<std::string> WriteQuickLooks(const SvbrdfMap& map, const BasisView& basis,
                                          const std::string& dir, const std::string& prefix);
 
