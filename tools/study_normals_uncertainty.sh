@@ -17,7 +17,7 @@ while [ $# -gt 0 ] && [ "$1" != -- ]; do sessions+=("$1"); shift; done
 mkdir -p "$out"
 csv=$out/normals_uncertainty.csv
 echo "session,limit_deg,search,relief_deg,flat_deg,map_log_rmse,view1,view2,view3,refused,median_uncertainty_deg,relief_certain_deg,relief_uncertain_deg" > "$csv"
-run() {  # session, label, limit, --set arguments...
+run() {  # session, limit (0: none), search (on | off), then acq session process options...
   local session=$1 limit=$2 search=$3; shift 3
   local dir
   dir=$(mktemp -d)

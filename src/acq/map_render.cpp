@@ -250,26 +250,24 @@ void WriteHeightPng(const SvbrdfMap& map, const std::string& path) {
 // step is one band of colour. Black where no normal was estimated.
 void WriteNormalUncertaintyPng(const SvbrdfMap& map, const std::string& path) {
   const int w = map.info.width, h = map.info.height;
+  cv::Mat radius(h, w, CV_32FC1);
   float finest = std::numeric_limits<float>::infinity(), largest = 0;
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x) {
-      const float u = map.Plane("normal_uncertainty_deg", x, y);
+      const float u = radius.at<float>(y, x) = map.Plane("normal_uncertainty_deg", x, y);
       if (u > 0) finest = std::min(finest, u);
       largest = std::max(largest, u);
     }
-  const double scale = largest > 0 && std::isfinite(finest) ? std::log1p(largest / finest) : 1;
+  const bool graded = std::isfinite(finest);  // some pixel's uncertainty above 0
+  const double scale = graded ? std::log1p(largest / finest) : 1;
   cv::Mat level(h, w, CV_8UC1);
   for (int y = 0; y < h; ++y)
-    for (int x = 0; x < w; ++x) {
-      const float u = std::max(map.Plane("normal_uncertainty_deg", x, y), 0.0f);
+    for (int x = 0; x < w; ++x)
       level.at<uchar>(y, x) = cv::saturate_cast<uchar>(
-          std::isfinite(finest) ? 255 * std::log1p(u / finest) / scale : 0);
-    }
+          graded ? 255 * std::log1p(std::max(radius.at<float>(y, x), 0.0f) / finest) / scale : 0);
   cv::Mat out;
   cv::applyColorMap(level, out, cv::COLORMAP_VIRIDIS);
-  for (int y = 0; y < h; ++y)
-    for (int x = 0; x < w; ++x)
-      if (map.Plane("normal_uncertainty_deg", x, y) < 0) out.at<cv::Vec3b>(y, x) = {0, 0, 0};
+  out.setTo(cv::Scalar(0, 0, 0), radius < 0);  // none estimated
   if (!cv::imwrite(path, out)) throw UserError(path, "cannot write PNG");
 }
 
