@@ -253,6 +253,9 @@ TEST_CASE("plan record: a capture setting changed is refused, a processing one r
         {"size_mm: [40, 40]", "size_mm: [40, 41]", "sample.size_mm: 40 40 -> 40 41"},
         {"seed: 3", "seed: 4", "sim.seed: 3 -> 4"},
         {"settle_s: 0.5", "settle_s: 0.6", "gantry.axes"},
+        // The poses' azimuths: recorded when spread (absent, the fastest, as sessions before it).
+        {"  camera_distance_mm", "  half_vector_azimuths: spread\n  camera_distance_mm",
+         "gantry.half_vector_azimuths: (none) -> spread"},
         {"spacing_mm: 20", "spacing_mm: 25", "calibration.board"},
         {"seed_directions_20.tsv", "validation_3.tsv", "directions.count: 20 -> 3"}}) {
     INFO(from << " -> " << to);

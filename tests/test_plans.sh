@@ -140,6 +140,18 @@ expect "normals trimmed views out of range" 1 many_trimmed.yaml --dry-run -- \
 variant negative_uncertainty 's/^  k: 4$/  k: 4\n  normals_max_uncertainty_deg: -2/'
 expect "normals max uncertainty negative" 1 negative_uncertainty.yaml --dry-run -- \
   "negative_uncertainty.yaml:23:" "reconstruction.normals_max_uncertainty_deg must be >= 0 degrees"
+variant negative_evidence 's/^  k: 4$/  k: 4\n  normals_evidence: -1/'
+expect "normals evidence negative" 1 negative_evidence.yaml --dry-run -- \
+  "negative_evidence.yaml:23:" "reconstruction.normals_evidence must be >= 0"
+variant unknown_azimuths 's/^gantry:$/gantry:\n  half_vector_azimuths: random/'
+expect "half-vector azimuths unknown" 1 unknown_azimuths.yaml --dry-run -- \
+  "unknown_azimuths.yaml:8:" "gantry.half_vector_azimuths 'random' is not known" "fastest or spread"
+variant normals_fastest 's/^  k: 4$/  k: 4\n  normals: true/'
+expect "normals with the fastest azimuths: a note" 0 normals_fastest.yaml --dry-run -- \
+  "half vectors (gantry.half_vector_azimuths: fastest)" "gantry.half_vector_azimuths: spread puts them"
+variant normals_spread 's/^  k: 4$/  k: 4\n  normals: true/; s/^gantry:$/gantry:\n  half_vector_azimuths: spread/'
+expect "normals with the azimuths spread" 0 normals_spread.yaml --dry-run -- \
+  "half vectors (gantry.half_vector_azimuths: spread): a facet tilted up to 15 deg"
 variant empty_bracket 's/bracket_us: \[1000, 8000, 64000\]/bracket_us: []/'
 expect "empty bracket" 1 empty_bracket.yaml --dry-run -- "empty_bracket.yaml:13:" \
   "camera.hdr.bracket_us is empty" "auto: true"

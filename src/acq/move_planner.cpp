@@ -6,6 +6,7 @@
 
 #include "core/angles.h"
 #include "core/error.h"
+#include "core/rusinkiewicz.h"
 
 namespace acq {
 namespace {
@@ -27,7 +28,48 @@ std::string Deg(double rad) {
   return DegString(rad, 0);
 }
 
+// A half vector with its azimuth free: at the pole it is the normal whatever the azimuth.
+bool AtPole(const Direction& d) {
+  return d.angles.theta_h < DegToRad(0.5);
+}
+
 }  // namespace
+
+const char* ToString(HalfVectorAzimuths a) {
+  return a == HalfVectorAzimuths::kSpread ? "spread" : "fastest";
+}
+
+std::optional<HalfVectorAzimuths> HalfVectorAzimuthsNamed(const std::string& name) {
+  for (HalfVectorAzimuths a : {HalfVectorAzimuths::kFastest, HalfVectorAzimuths::kSpread})
+    if (name == ToString(a)) return a;
+  return std::nullopt;
+}
+
+std::vector<double> SpreadHalfVectorAzimuths(const std::vector<Direction>& dirs, int steps) {
+  std::vector<std::size_t> order(dirs.size());
+  for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+    return dirs[a].angles.theta_h < dirs[b].angles.theta_h;
+  });
+  std::vector<double> azimuths(dirs.size(), 0.0);
+  std::vector<Eigen::Vector3d> placed;
+  for (std::size_t i : order) {
+    const double theta_h = dirs[i].angles.theta_h;
+    double best_phi = 0,
+           best_nearest = -1;  // cosine of the angle to the nearest: smaller is farther
+    for (int s = 0; s < steps && !AtPole(dirs[i]) && !placed.empty(); ++s) {
+      const double phi = 2 * kPi * s / steps;
+      const Eigen::Vector3d h = SphericalDirection(theta_h, phi);
+      double nearest = -1;
+      for (const Eigen::Vector3d& p : placed) nearest = std::max(nearest, h.dot(p));
+      if (best_nearest < 0 || nearest < best_nearest - 1e-12)
+        best_nearest = nearest, best_phi = phi;
+    }
+    azimuths[i] = best_phi;
+    placed.push_back(SphericalDirection(theta_h, best_phi));
+  }
+  return azimuths;
+}
 
 void GantryMotion::Check() const {
   // Physical ranges (issue 22): an arm faster than 360 deg/s or 3600 deg/s^2 is no gantry's,
@@ -140,17 +182,29 @@ class RouteCosts {
       for (int s = 0; s < steps_; ++s) arms_.push_back(Rotated(d, 2 * kPi * s / steps_));
     cache_.assign(states_ * states_, -1.0f);
     home_.assign(states_, -1.0f);
+    allowed_.assign(states_, true);
+    if (m.half_vector_azimuths == HalfVectorAzimuths::kSpread) Spread(dirs);
   }
   int Steps() const { return steps_; }
   const ArmAngles& Arms(std::size_t pose, int s) const { return arms_[State(pose, s)]; }
   double FromHome(std::size_t pose, int s) {
+    if (!allowed_[State(pose, s)]) return kInf;
     return Cost(m_.home, Arms(pose, s), &home_[State(pose, s)]);
   }
   double Move(std::size_t a, int s, std::size_t b, int t) {
+    if (!allowed_[State(a, s)] || !allowed_[State(b, t)]) return kInf;
     return Cost(Arms(a, s), Arms(b, t), &cache_[State(a, s) * states_ + State(b, t)]);
   }
 
  private:
+  // Each pose only within the tolerance of its spread azimuth (any azimuth at the pole).
+  void Spread(const std::vector<Direction>& dirs) {
+    const std::vector<double> target = SpreadHalfVectorAzimuths(dirs, steps_);
+    for (std::size_t pose = 0; pose < dirs.size(); ++pose)
+      for (int s = 0; s < steps_ && !AtPole(dirs[pose]); ++s)
+        allowed_[State(pose, s)] = std::abs(WrapDelta(2 * kPi * s / steps_ - target[pose])) <=
+                                   DegToRad(kSpreadToleranceDeg) + 1e-9;
+  }
   std::size_t State(std::size_t pose, int s) const {
     return pose * std::size_t(steps_) + std::size_t(s);
   }
@@ -165,6 +219,7 @@ class RouteCosts {
   std::size_t states_;
   std::vector<ArmAngles> arms_;
   std::vector<float> cache_, home_;
+  std::vector<bool> allowed_;
 };
 
 // Dynamic programming over the azimuths along a route: cost[i][s] is the least time to reach
@@ -198,10 +253,14 @@ VisitPlan BestAzimuths(RouteCosts& costs, const std::vector<std::size_t>& order)
   return plan;
 }
 
-VisitPlan RequireSafe(VisitPlan plan) {
+VisitPlan RequireSafe(VisitPlan plan, const GantryMotion& m) {
   if (plan.total_s == kInf)
     throw UserError("move order", "no collision-free azimuths exist for this order",
-                    "check the arms' separation limit against the directions");
+                    m.half_vector_azimuths == HalfVectorAzimuths::kSpread
+                        ? "the half vectors' spread azimuths leave no safe route: plan with "
+                          "gantry.half_vector_azimuths: fastest, or check the arms' separation "
+                          "limit against the directions"
+                        : "check the arms' separation limit against the directions");
   return plan;
 }
 
@@ -211,7 +270,29 @@ VisitPlan PlanBestAzimuths(const std::vector<Direction>& dirs,
                            const std::vector<std::size_t>& order, const GantryMotion& m) {
   CheckReachable(dirs, m);
   RouteCosts costs(dirs, m);
-  return RequireSafe(BestAzimuths(costs, order));
+  return RequireSafe(BestAzimuths(costs, order), m);
+}
+
+double WidestHalfVectorGap(const VisitPlan& plan, double max_tilt) {
+  std::vector<Eigen::Vector3d> halves;
+  for (const PlannedPose& p : plan.poses) {
+    const DirectionPair d = DirectionsOf(p.arms);
+    halves.push_back((d.in + d.out).normalized());
+  }
+  if (halves.empty()) return kPi;
+  // Facets on rings a quarter of a degree apart, a quarter of a degree round each.
+  const double step = DegToRad(0.25);
+  double widest = 0;
+  for (double tilt = 0; tilt <= max_tilt + 1e-12; tilt += step) {
+    const int around = std::max(1, int(std::ceil(2 * kPi * std::sin(tilt) / step)));
+    for (int k = 0; k < around; ++k) {
+      const Eigen::Vector3d facet = SphericalDirection(tilt, 2 * kPi * k / around);
+      double nearest = -1;
+      for (const Eigen::Vector3d& h : halves) nearest = std::max(nearest, facet.dot(h));
+      widest = std::max(widest, std::acos(std::clamp(nearest, -1.0, 1.0)));
+    }
+  }
+  return widest;
 }
 
 VisitPlan PlanInFileOrder(const std::vector<Direction>& dirs, const GantryMotion& m) {
@@ -270,7 +351,7 @@ VisitPlan PlanShortest(const std::vector<Direction>& dirs, const GantryMotion& m
         }
       }
   }
-  return RequireSafe(plan);
+  return RequireSafe(plan, m);
 }
 
 }  // namespace acq

@@ -10,6 +10,7 @@
 #pragma once
 
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -22,12 +23,25 @@ namespace acq {
 // Per-axis speed (rad/s) and acceleration (rad/s^2).
 using AxisLimits = TrapezoidProfile;
 
+// How the planner chooses each pose's half-vector azimuth (phi_h).
+enum class HalfVectorAzimuths {
+  kFastest,  // whatever makes the moves shortest (the half vectors may share one side)
+  // Spread round the sample's normal (SpreadHalfVectorAzimuths), each pose within
+  // kSpreadToleranceDeg of its own: a facet tilted any way then has some view's highlight
+  // near it, which a relief's normals need (docs/reconstruction.md, "Half vectors all round").
+  kSpread,
+};
+const char* ToString(HalfVectorAzimuths a);  // "fastest", "spread"
+std::optional<HalfVectorAzimuths> HalfVectorAzimuthsNamed(const std::string& name);
+inline constexpr double kSpreadToleranceDeg = 10;
+
 struct GantryMotion {
   AxisLimits theta{DegToRad(30), DegToRad(60)}, phi{DegToRad(30), DegToRad(60)};  // both arms
   double settle_s = 0.5;
   DirectionConstraints constraints;  // reach and arm separation, checked at and between poses
   ArmAngles home{DegToRad(45), 0, 0, 0};
   int phi_h_steps = 72;  // azimuths tried per pose (every 5 degrees)
+  HalfVectorAzimuths half_vector_azimuths = HalfVectorAzimuths::kFastest;
 
   void Check() const;  // throws UserError
   // Sets the axis speeds, accelerations and settle time from a source of named values in the
@@ -56,6 +70,22 @@ struct VisitPlan {
 // Throws UserError naming the direction (its file:line) and the rule when a pose cannot be
 // reached or no azimuth keeps the arms apart.
 void CheckReachable(const std::vector<Direction>& directions, const GantryMotion& motion);
+
+// Each direction's half-vector azimuth (radians, on the grid of `steps` per turn) so that the
+// half vectors lie as far apart as they can: in order of theta_h (then as given), each takes
+// the azimuth farthest from the half vectors placed before it (the first of equals). A
+// direction whose half vector is the normal (theta_h under 0.5 degree) gets 0, its azimuth
+// being no matter. Deterministic.
+std::vector<double> SpreadHalfVectorAzimuths(const std::vector<Direction>& directions, int steps);
+
+// The widest gap a relief's facet can fall in: over facets tilted up to `max_tilt` (radians)
+// from the sample's normal, the largest angle from a facet's normal to the nearest of the
+// plan's half vectors at the sample's centre (radians). A mirror-like ink's normal in a gap
+// shows no highlight in any view, so the views cannot place it (docs/reconstruction.md).
+double WidestHalfVectorGap(const VisitPlan& plan, double max_tilt);
+// The tilts the planner's outputs report the gap over (degrees): the embossed card's edges are
+// 10 degrees, a woven fabric's or a brush stroke's rarely steeper than 15.
+inline constexpr double kReliefTiltDeg = 15;
 
 // The directions in the given order, each at phi_h = 0 (what a naive run does).
 VisitPlan PlanInFileOrder(const std::vector<Direction>& directions, const GantryMotion& motion);

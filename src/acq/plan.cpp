@@ -301,8 +301,8 @@ SampleSpec ReadSample(const Section& top) {
 }
 
 GantrySpec ReadGantry(const Section& top) {
-  const Section gantry =
-      top.Child("gantry", {"usb", "limits", "axes", "camera_distance_mm", "light_distance_mm"});
+  const Section gantry = top.Child("gantry", {"usb", "limits", "axes", "camera_distance_mm",
+                                              "light_distance_mm", "half_vector_azimuths"});
   GantrySpec g;
   const Section usb = gantry.Child("usb", {"vid", "pid", "serial"});
   g.usb.vendor_id = std::uint16_t(usb.Integer("vid", g.usb.vendor_id, 0, 0xFFFF));
@@ -323,6 +323,15 @@ GantrySpec ReadGantry(const Section& top) {
   g.motion.ReadAxes(
       [&](const std::string& key, double fallback) { return axes.Number(key, fallback); });
   gantry.At("axes", [&] { g.motion.Check(); });
+  if (gantry.Has("half_vector_azimuths")) {
+    const std::string name = gantry.Text("half_vector_azimuths");
+    const std::optional<HalfVectorAzimuths> parsed = HalfVectorAzimuthsNamed(name);
+    if (!parsed)
+      throw UserError(gantry.Where("half_vector_azimuths"),
+                      "gantry.half_vector_azimuths '" + name + "' is not known",
+                      "use fastest or spread (spread: what a relief's normals need)");
+    g.motion.half_vector_azimuths = *parsed;
+  }
   g.camera_distance_mm = gantry.Number("camera_distance_mm", g.camera_distance_mm);
   g.light_distance_mm = gantry.Number("light_distance_mm", g.light_distance_mm);
   gantry.Checked([&] { g.Check(); });
@@ -612,10 +621,11 @@ SimSpec ReadSim(const YAML::Node& root, const Section& top, const std::string& b
 }
 
 ReconstructionSpec ReadReconstruction(const Section& top, const std::string& base) {
-  const Section recon = top.Child(
-      "reconstruction", {"basis", "k", "eta", "lookup", "row_tile", "method", "groups",
-                         "design_sigma_deg", "normals", "normals_prior", "normals_mixed_pixels",
-                         "normals_trimmed_views", "normals_max_uncertainty_deg"});
+  const Section recon =
+      top.Child("reconstruction",
+                {"basis", "k", "eta", "lookup", "row_tile", "method", "groups", "design_sigma_deg",
+                 "normals", "normals_prior", "normals_mixed_pixels", "normals_trimmed_views",
+                 "normals_max_uncertainty_deg", "normals_evidence"});
   ReconstructionSpec r;
   r.basis_file = Resolve(base, recon.Required("basis"));
   RequireFile(recon, "basis", r.basis_file, "build one with `acq basis build` (README)");
@@ -645,6 +655,7 @@ ReconstructionSpec ReadReconstruction(const Section& top, const std::string& bas
       recon.Integer("normals_trimmed_views", r.normals_trimmed_views, 0, kMaxNormalsTrimmedViews));
   r.normals_max_uncertainty_deg =
       recon.Number("normals_max_uncertainty_deg", r.normals_max_uncertainty_deg);
+  r.normals_evidence = recon.Number("normals_evidence", r.normals_evidence);
   recon.Checked([&] { r.Check(); });
   return r;
 }
@@ -747,6 +758,9 @@ void ReconstructionSpec::Check() const {
   if (!(normals_max_uncertainty_deg >= 0))
     throw UserError("normals_max_uncertainty_deg", "must be >= 0 degrees",
                     "0 (the default) keeps every estimated normal, however uncertain");
+  if (!(normals_evidence >= 0))
+    throw UserError("normals_evidence", "must be >= 0",
+                    "the multiple of the information criterion a tilt must beat; 0 for none");
 }
 
 namespace {

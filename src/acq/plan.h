@@ -135,6 +135,7 @@ struct ReconstructionSpec {  // reconstruction:
   int normals_trimmed_views = kDefaultNormalsTrimmedViews;  // NormalSearchOptions::trimmed_views
   // NormalSearchOptions::max_uncertainty_deg
   double normals_max_uncertainty_deg = kDefaultNormalsMaxUncertaintyDeg;
+  double normals_evidence = kDefaultNormalsEvidence;  // NormalSearchOptions::evidence
   void Check() const;
 };
 

@@ -139,6 +139,10 @@ std::vector<PlanSetting> PlanSettings(const Plan& plan) {
   s.Capture("gantry.axes",
             Numbers({RadToDeg(m.theta.speed), RadToDeg(m.theta.acceleration), RadToDeg(m.phi.speed),
                      RadToDeg(m.phi.acceleration), m.settle_s}));
+  // Recorded when not the fastest (what sessions before it were planned with), so that those
+  // resume and replay as they were captured.
+  if (m.half_vector_azimuths != HalfVectorAzimuths::kFastest)
+    s.Capture("gantry.half_vector_azimuths", ToString(m.half_vector_azimuths));
   s.Capture("gantry.camera_distance_mm", Number(plan.gantry.camera_distance_mm));
   s.Capture("gantry.light_distance_mm", Number(plan.gantry.light_distance_mm));
   s.Capture("camera.id", plan.camera.id);
@@ -218,6 +222,8 @@ std::vector<PlanSetting> PlanSettings(const Plan& plan) {
   if (plan.reconstruction.normals_max_uncertainty_deg != kDefaultNormalsMaxUncertaintyDeg)
     s.Processing("reconstruction.normals_max_uncertainty_deg",
                  Number(plan.reconstruction.normals_max_uncertainty_deg));
+  if (plan.reconstruction.normals_evidence != kDefaultNormalsEvidence)
+    s.Processing("reconstruction.normals_evidence", Number(plan.reconstruction.normals_evidence));
   return s.out;
 }
 

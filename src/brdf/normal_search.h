@@ -63,6 +63,7 @@ inline constexpr bool kDefaultNormalsMixedPixels = true;  // NormalSearchOptions
 inline constexpr int kDefaultNormalsTrimmedViews = 1;     // NormalSearchOptions::trimmed_views
 inline constexpr int kMaxNormalsTrimmedViews = 4;
 inline constexpr double kDefaultNormalsMaxUncertaintyDeg = 0;  // no limit
+inline constexpr double kDefaultNormalsEvidence = 1;           // NormalSearchOptions::evidence
 
 struct NormalSearchOptions {
   bool enabled = false;
@@ -103,7 +104,7 @@ struct NormalSearchOptions {
   // search tilts flat pixels of materials whose misfit hardly depends on the normal (a dark
   // fabric), whose solve then moves far: a degree of tilt rescales a grazing view's value by
   // 20%.
-  double evidence = 1;
+  double evidence = kDefaultNormalsEvidence;
   // Criterion kCentre: a pixel may also be explained by two of its groups' centres mixed (BRDFs
   // mixed linearly, shares 1/4, 1/2, 3/4), at every candidate normal and the sample's: a pixel
   // at an ink edge is then judged by the mixture, not by one ink whose lobe a tilt moves.

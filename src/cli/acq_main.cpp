@@ -64,10 +64,12 @@ const std::map<std::string, Command>& Commands() {
         "acq directions plan --directions TSV [-o PLAN.tsv] [--theta-speed-deg-s 30]\n"
         "    [--theta-accel-deg-s2 60] [--phi-speed-deg-s 30] [--phi-accel-deg-s2 60]\n"
         "    [--settle-s 0.5] [--max-camera-zenith-deg 65] [--max-light-zenith-deg 85]\n"
-        "    [--min-separation-deg 20] [--azimuth-steps 72]\n"
+        "    [--min-separation-deg 20] [--azimuth-steps 72] [--half-vector-azimuths fastest]\n"
         "  Checks every direction against the gantry's reach and arm separation, then finds the\n"
         "  shortest collision-free visiting order (choosing each pose's free azimuth) and its\n"
-        "  duration, against the file's order."}},
+        "  duration, against the file's order, and with the half vectors spread round the normal\n"
+        "  (what a relief's normals need). --half-vector-azimuths spread prints and writes that\n"
+        "  order."}},
       {"reconstruct synthetic",
        {ReconstructSynthetic,
         "acq reconstruct synthetic --basis BASIS --directions TSV -o MAP.exr [--size 256x256]\n"

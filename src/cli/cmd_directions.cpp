@@ -204,11 +204,12 @@ int DirectionsEval(const Argv& argv) {
 }
 
 int DirectionsPlan(const Argv& argv) {
-  const Args args("acq directions plan", argv,
-                  With({"directions", "o", "theta-speed-deg-s", "theta-accel-deg-s2",
-                        "phi-speed-deg-s", "phi-accel-deg-s2", "settle-s", "azimuth-steps"},
-                       kConstraintOptions),
-                  {});
+  const Args args(
+      "acq directions plan", argv,
+      With({"directions", "o", "theta-speed-deg-s", "theta-accel-deg-s2", "phi-speed-deg-s",
+            "phi-accel-deg-s2", "settle-s", "azimuth-steps", "half-vector-azimuths"},
+           kConstraintOptions),
+      {});
   const std::vector<Direction> directions = ReadDirectionsTsv(args.Required("directions"));
   GantryMotion m;
   m.ReadAxes([&](std::string name, double fallback) {
@@ -223,7 +224,16 @@ int DirectionsPlan(const Argv& argv) {
   std::vector<std::size_t> file_order(directions.size());
   for (std::size_t i = 0; i < file_order.size(); ++i) file_order[i] = i;
   const VisitPlan azimuths = PlanBestAzimuths(directions, file_order, m);
-  const VisitPlan best = PlanShortest(directions, m);
+  const VisitPlan fastest = PlanShortest(directions, m);
+  GantryMotion spread_motion = m;
+  spread_motion.half_vector_azimuths = HalfVectorAzimuths::kSpread;
+  const VisitPlan spread = PlanShortest(directions, spread_motion);
+  const std::string chosen = args.Get("half-vector-azimuths", "fastest");
+  const std::optional<HalfVectorAzimuths> azimuths_chosen = HalfVectorAzimuthsNamed(chosen);
+  if (!azimuths_chosen)
+    throw UserError("--half-vector-azimuths",
+                    "must be 'fastest' or 'spread', got '" + chosen + "'");
+  const VisitPlan& best = *azimuths_chosen == HalfVectorAzimuths::kSpread ? spread : fastest;
 
   std::printf("visiting order (from home: light %g/%g, camera %g/%g deg):\n",
               RadToDeg(m.home.light_theta), RadToDeg(m.home.light_phi),
@@ -244,7 +254,15 @@ int DirectionsPlan(const Argv& argv) {
   };
   row("file order, phi_h = 0", naive);
   row("file order, best azimuths", azimuths);
-  row("shortest order found, best azimuths", best);
+  row("shortest order found, best azimuths", fastest);
+  row("shortest order found, half vectors spread", spread);
+  // What a relief's normals see of it (move_planner.h): tilts up to the seed's 15 degrees.
+  const double tilt = DegToRad(kReliefTiltDeg);
+  std::printf(
+      "\nwidest gap between a facet tilted up to %.0f deg and the nearest half vector: fastest "
+      "%.1f deg, spread %.1f deg\n",
+      kReliefTiltDeg, RadToDeg(WidestHalfVectorGap(fastest, tilt)),
+      RadToDeg(WidestHalfVectorGap(spread, tilt)));
   if (args.Has("o")) {
     std::ofstream f(args.Get("o"));
     if (!f) throw UserError(args.Get("o"), "cannot create file");

@@ -170,10 +170,13 @@ SessionVisits PlanVisits(const Plan& plan) {
     v.chart.poses.push_back(v.sample.poses.front());
     v.chart.total_s = v.chart.poses.front().move_s;
   }
-  if (!plan.validation.empty()) v.validation = PlanShortest(plan.validation, plan.gantry.motion);
+  // Only the sample's directions reconstruct: the others are visited the fastest way.
+  GantryMotion fastest = plan.gantry.motion;
+  fastest.half_vector_azimuths = HalfVectorAzimuths::kFastest;
+  if (!plan.validation.empty()) v.validation = PlanShortest(plan.validation, fastest);
   if (plan.calibration.intrinsics_captures > 0) {
     // The one pose, held for every capture (the moves after the first are empty).
-    const VisitPlan once = PlanShortest(v.intrinsics_direction, plan.gantry.motion);
+    const VisitPlan once = PlanShortest(v.intrinsics_direction, fastest);
     v.intrinsics = once;
     for (int i = 1; i < plan.calibration.intrinsics_captures; ++i) {
       v.intrinsics.poses.push_back(once.poses.front());

@@ -115,6 +115,24 @@ std::string OverTheSample(const Plan& plan) {
   return out;
 }
 
+// How far the plan's half vectors leave a relief's facets from a highlight, and the remedy
+// where normals are estimated from the fastest azimuths.
+std::string HalfVectors(const Plan& plan, const VisitPlan& sample) {
+  const HalfVectorAzimuths azimuths = plan.gantry.motion.half_vector_azimuths;
+  std::string out;
+  Append(&out,
+         "half vectors (gantry.half_vector_azimuths: %s): a facet tilted up to %.0f deg lies at "
+         "most %.1f deg from the nearest\n",
+         ToString(azimuths), kReliefTiltDeg,
+         RadToDeg(WidestHalfVectorGap(sample, DegToRad(kReliefTiltDeg))));
+  if (plan.reconstruction.normals && azimuths == HalfVectorAzimuths::kFastest)
+    out +=
+        "  note: the normals are estimated and the half vectors may share one side of the "
+        "normal, where a glossy ink's tilted facets show no highlight; "
+        "gantry.half_vector_azimuths: spread puts them all round (docs/reconstruction.md)\n";
+  return out;
+}
+
 }  // namespace
 
 void CheckSessionInputs(const Plan& plan) {
@@ -140,6 +158,7 @@ std::string DryRunText(const Plan& plan) {
   const SessionVisits visits = PlanVisits(plan);
   const VisitPlan naive = PlanInFileOrder(plan.directions, plan.gantry.motion);
   out += VisitingOrder(plan, visits.sample) + "\n";
+  out += HalfVectors(plan, visits.sample) + "\n";
   out += OverTheSample(plan) + "\n";
   double total_s = 0;
   out += Schedule(plan, visits, &total_s);

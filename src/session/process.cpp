@@ -169,6 +169,7 @@ ReconstructionReport ReconstructMap(const Plan& plan, const MappedBasis& mapped,
   options.normals.mixed_pixels = plan.reconstruction.normals_mixed_pixels;
   options.normals.trimmed_views = plan.reconstruction.normals_trimmed_views;
   options.normals.max_uncertainty_deg = plan.reconstruction.normals_max_uncertainty_deg;
+  options.normals.evidence = plan.reconstruction.normals_evidence;
   options.progress = false;
   SvbrdfMapInfo info;
   info.basis = plan.reconstruction.basis_file;
