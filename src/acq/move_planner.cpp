@@ -15,7 +15,7 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 
 double WrapDelta(double a) {
   return std::remainder(a, 2 * kPi);
-}  // shortest way round
+}  // the shorter way round, for comparing azimuths (not for moves: see move_planner.h)
 
 // The arms of a direction with the half vector's azimuth rotated by phi_h.
 ArmAngles Rotated(const Direction& d, double phi_h) {
@@ -96,9 +96,9 @@ void GantryMotion::ReadAxes(
 
 double GantryMotion::MoveSeconds(const ArmAngles& a, const ArmAngles& b) const {
   return std::max({theta.Duration(b.light_theta - a.light_theta),
-                   phi.Duration(WrapDelta(b.light_phi - a.light_phi)),
+                   phi.Duration(b.light_phi - a.light_phi),
                    theta.Duration(b.camera_theta - a.camera_theta),
-                   phi.Duration(WrapDelta(b.camera_phi - a.camera_phi))}) +
+                   phi.Duration(b.camera_phi - a.camera_phi)}) +
          settle_s;
 }
 
@@ -109,9 +109,9 @@ std::string GantryMotion::MoveViolation(const ArmAngles& a, const ArmAngles& b) 
   // reach, and the separation by the spherical law of cosines against cos(min_separation)); the
   // constraints' own Violation() words the first sample that fails.
   const double d_light_theta = b.light_theta - a.light_theta;
-  const double d_light_phi = WrapDelta(b.light_phi - a.light_phi);
+  const double d_light_phi = b.light_phi - a.light_phi;
   const double d_camera_theta = b.camera_theta - a.camera_theta;
-  const double d_camera_phi = WrapDelta(b.camera_phi - a.camera_phi);
+  const double d_camera_phi = b.camera_phi - a.camera_phi;
   const double travel = std::max({std::abs(d_light_theta), std::abs(d_light_phi),
                                   std::abs(d_camera_theta), std::abs(d_camera_phi)});
   const int steps = std::max(1, int(std::ceil(travel / DegToRad(1))));

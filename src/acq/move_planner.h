@@ -3,7 +3,10 @@
 //
 // Axes: light theta, light phi, camera theta, camera phi. Each moves with a trapezoidal speed
 // profile (accelerate, cruise, decelerate); the four move together and a move lasts as long as
-// its slowest axis, plus the settle time. Azimuths wrap: a move takes the shorter way round.
+// its slowest axis, plus the settle time. A MOVE commands absolute angles (firmware_protocol/
+// PROTOCOL.md) and each axis travels straight from its angle to the commanded one: an azimuth
+// does not wrap (170 to -170 degrees is 340 degrees of travel, through 0), so the planner costs
+// and collision-checks that path, not the shorter way round the firmware does not take.
 // Isotropic BRDFs leave the azimuth of the half vector (phi_h) free: rotating both arms together
 // about the normal gives the same measurement, so the planner chooses it per pose to shorten
 // the moves.
