@@ -82,7 +82,8 @@ const std::map<std::string, Command>& Commands() {
         "    [--method pooled|independent] [--groups 0] [--max-groups 64] [--sample-pixels 8192]\n"
         "    [--design-sigma-deg 0.15]\n"
         "    [--sample card|blend|marble|text | --sample-labels PNG|EXR | --sample-weights EXR]\n"
-        "    [--relief-deg S [--fibre-deg F] | --height-map EXR|PNG] [--normals\n"
+        "    [--relief-deg S [--fibre-deg F] | --height-map EXR|PNG] [--spread-half-vectors]\n"
+        "    [--normals\n"
         "    [--normals-max-tilt-deg 25] [--normals-prior 0.5] [--normals-k 8]\n"
         "    [--normals-criterion fit|held-out|centre] [--normals-score-min-cos 0]\n"
         "    [--normals-evidence 1] [--normals-estimated-min-cos 0]\n"
@@ -101,7 +102,9 @@ const std::map<std::string, Command>& Commands() {
         "  one (docs/reconstruction.md). --relief-deg embosses\n"
         "  what is printed and raises a border (steepest slope S degrees; --fibre-deg adds paper\n"
         "  fibre); --height-map gives heights in pixels (EXR plane 'height'; a PNG's full scale\n"
-        "  is 8 pixels); --normals estimates each pixel's normal with its BRDF."}},
+        "  is 8 pixels); --normals estimates each pixel's normal with its BRDF.\n"
+        "  --spread-half-vectors sets each view's free azimuth as gantry.half_vector_azimuths:\n"
+        "  spread does (else phi_h = 0 for all)."}},
       {"export pbr",
        {ExportPbr,
         "acq export pbr --map MAP.exr -o DIR [--basis BASIS] [--session SESSION] [--name NAME]\n"

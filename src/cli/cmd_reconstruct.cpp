@@ -4,6 +4,7 @@
 #include <map>
 
 #include "acq/map_score.h"
+#include "acq/move_planner.h"
 #include "acq/reconstruction_job.h"
 #include "brdf/basis_file.h"
 #include "brdf/directions.h"
@@ -178,9 +179,9 @@ int ReconstructSynthetic(const Argv& argv) {
                                   "normals-levels",
                                   "normals-coarse-reach"};
   valued.insert(kGeometryOptions.begin(), kGeometryOptions.end());
-  const Args args(
-      "acq reconstruct synthetic", argv, valued,
-      {"ignore-near-field", "truth-tables", "score", "quiet", "normals", "normals-single-centre"});
+  const Args args("acq reconstruct synthetic", argv, valued,
+                  {"ignore-near-field", "truth-tables", "score", "quiet", "normals",
+                   "normals-single-centre", "spread-half-vectors"});
   const std::string basis_path = args.Required("basis"), out = args.Required("o");
   // The options that are numbers, checked before any file is read.
   int w = 0, h = 0;
@@ -189,8 +190,17 @@ int ReconstructSynthetic(const Argv& argv) {
   const MappedBasis mapped = MappedBasis::Open(basis_path);
   const BasisView& basis = mapped.View();
   const std::vector<Direction> directions = ReadDirectionsTsv(args.Required("directions"));
+  // Each view at phi_h = 0, or as a capture with gantry.half_vector_azimuths: spread plans it.
+  const std::vector<double> phi_h =
+      args.Has("spread-half-vectors")
+          ? SpreadHalfVectorAzimuths(directions, GantryMotion{}.phi_h_steps)
+          : std::vector<double>(directions.size(), 0.0);
   std::vector<ArmAngles> views;
-  for (const Direction& d : directions) views.push_back(ArmAnglesFor(d.angles));
+  for (std::size_t i = 0; i < directions.size(); ++i) {
+    RusinkiewiczAngles angles = directions[i].angles;
+    angles.phi_h = phi_h[i];
+    views.push_back(ArmAnglesFor(angles));
+  }
 
   // The card's inks: named materials (default: four of the issue-2 held-out set).
   const std::string dir = args.Get("materials-dir", "data/nbrdf/merl");
