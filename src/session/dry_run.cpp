@@ -129,7 +129,9 @@ std::string HalfVectors(const Plan& plan, const VisitPlan& sample) {
     out +=
         "  note: the normals are estimated and the half vectors may share one side of the "
         "normal, where a glossy ink's tilted facets show no highlight; "
-        "gantry.half_vector_azimuths: spread puts them all round (docs/reconstruction.md)\n";
+        "gantry.half_vector_azimuths: spread puts them all round (what it trades: "
+        "docs/reconstruction.md, "
+        "\"Half vectors all round\")\n";
   return out;
 }
 
