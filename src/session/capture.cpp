@@ -12,6 +12,7 @@
 #include "core/seconds_since.h"
 #include "core/stop_request.h"
 #include "hw/frame_file.h"
+#include "io/float_planes_exr.h"
 #include "session/frame_preview.h"
 
 namespace acq {
@@ -296,7 +297,41 @@ void CapturePose(const Plan& plan, const CaptureStep& step, std::size_t i,
   }
 }
 
+// A pose the session already has frames of must be the pose those frames were taken at
+// (PoseMismatch); the first frame's header is read, not its pixels.
+void CheckResumedPose(const CaptureStep& step, std::size_t i, const CaptureContext& c) {
+  const std::vector<CatalogFrame> frames = c.catalog.FramesOf(step.step, int(i));
+  if (frames.empty()) return;
+  const std::string path = c.catalog.directory() + "/" + frames.front().path;
+  const std::string why = PoseMismatch(step.visit->poses[i],
+                                       ReadFloatPlanesExr(path, /*read_pixels=*/false).attributes);
+  if (!why.empty())
+    throw UserError(path,
+                    "this session's " + std::string(ToString(step.step)) + " pose " +
+                        std::to_string(i + 1) + " was taken elsewhere: " + why +
+                        " (the poses were planned in another order: another version of acqd?)",
+                    "resume it with the acqd that started it, or capture into a new session "
+                    "directory; its frames are left as they are");
+}
+
 }  // namespace
+
+std::string PoseMismatch(const PlannedPose& planned,
+                         const std::map<std::string, std::string>& frame_attributes) {
+  const auto commanded = frame_attributes.find("arms_commanded_deg");
+  if (commanded == frame_attributes.end()) return {};  // nothing recorded to compare
+  const ArmAngles was = ParseArmAnglesAttribute(commanded->second, "arms_commanded_deg");
+  const ArmAngles& is = planned.arms;
+  // The attribute keeps a thousandth of a degree.
+  const double tolerance = DegToRad(0.002);
+  const double d[4] = {was.light_theta - is.light_theta, was.light_phi - is.light_phi,
+                       was.camera_theta - is.camera_theta, was.camera_phi - is.camera_phi};
+  for (double x : d)
+    if (std::abs(x) > tolerance)
+      return "its frames' arms " + commanded->second + " deg, this run's " +
+             ArmAnglesAttribute(is) + " deg";
+  return {};
+}
 
 CaptureReport Capture(const Plan& plan, const CaptureStep& step, CaptureContext& c) {
   CaptureReport report;
@@ -306,6 +341,7 @@ CaptureReport Capture(const Plan& plan, const CaptureStep& step, CaptureContext&
   for (std::size_t i = 0; i < poses.size(); ++i, ++c.poses_done) {
     status.progress = c.poses_total > 0 ? double(c.poses_done) / c.poses_total : 0;
     // Empty for an automatic bracket not chosen yet: the pose is not done.
+    CheckResumedPose(step, i, c);
     const std::vector<double> bracket = RecordedBracket(plan, step, int(i), c.catalog);
     bool done = !bracket.empty();
     for (double t : bracket) done = done && c.catalog.HasFrame(step.step, int(i), t);

@@ -17,6 +17,7 @@
 #pragma once
 
 #include <functional>
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -68,6 +69,13 @@ struct SessionVisits {
   std::vector<Direction> intrinsics_direction = IntrinsicsDirection();
 };
 SessionVisits PlanVisits(const Plan& plan);
+
+// Empty when a frame already in the session (its attributes) was taken at the arms this run
+// commands for its pose, else what differs. A session resumed by an acqd whose planner visits
+// the directions in another order would otherwise count one direction's frames as another's,
+// never take the one left out, and merge two azimuths in one bracket.
+std::string PoseMismatch(const PlannedPose& planned,
+                         const std::map<std::string, std::string>& frame_attributes);
 
 // The steps of a plan in capture order (the calibration boards', then the sample's, then the
 // Spectralon's, so the operator changes the item as few times as can be).
