@@ -175,7 +175,8 @@ namespace {
 // since the search costs many orders over the same moves.
 class RouteCosts {
  public:
-  RouteCosts(const std::vector<Direction>& dirs, const GantryMotion& m)
+  // spread_tolerance > 0: each pose within it of its spread azimuth (radians); else any azimuth.
+  RouteCosts(const std::vector<Direction>& dirs, const GantryMotion& m, double spread_tolerance)
       : m_(m), steps_(m.phi_h_steps), states_(dirs.size() * std::size_t(steps_)) {
     arms_.reserve(states_);
     for (const Direction& d : dirs)
@@ -183,7 +184,7 @@ class RouteCosts {
     cache_.assign(states_ * states_, -1.0f);
     home_.assign(states_, -1.0f);
     allowed_.assign(states_, true);
-    if (m.half_vector_azimuths == HalfVectorAzimuths::kSpread) Spread(dirs);
+    if (spread_tolerance > 0) Spread(dirs, spread_tolerance);
   }
   int Steps() const { return steps_; }
   const ArmAngles& Arms(std::size_t pose, int s) const { return arms_[State(pose, s)]; }
@@ -198,12 +199,12 @@ class RouteCosts {
 
  private:
   // Each pose only within the tolerance of its spread azimuth (any azimuth at the pole).
-  void Spread(const std::vector<Direction>& dirs) {
+  void Spread(const std::vector<Direction>& dirs, double tolerance) {
     const std::vector<double> target = SpreadHalfVectorAzimuths(dirs, steps_);
     for (std::size_t pose = 0; pose < dirs.size(); ++pose)
       for (int s = 0; s < steps_ && !AtPole(dirs[pose]); ++s)
-        allowed_[State(pose, s)] = std::abs(WrapDelta(2 * kPi * s / steps_ - target[pose])) <=
-                                   DegToRad(kSpreadToleranceDeg) + 1e-9;
+        allowed_[State(pose, s)] =
+            std::abs(WrapDelta(2 * kPi * s / steps_ - target[pose])) <= tolerance + 1e-9;
   }
   std::size_t State(std::size_t pose, int s) const {
     return pose * std::size_t(steps_) + std::size_t(s);
@@ -253,15 +254,26 @@ VisitPlan BestAzimuths(RouteCosts& costs, const std::vector<std::size_t>& order)
   return plan;
 }
 
-VisitPlan RequireSafe(VisitPlan plan, const GantryMotion& m) {
+VisitPlan RequireSafe(VisitPlan plan) {
   if (plan.total_s == kInf)
     throw UserError("move order", "no collision-free azimuths exist for this order",
-                    m.half_vector_azimuths == HalfVectorAzimuths::kSpread
-                        ? "the half vectors' spread azimuths leave no safe route: plan with "
-                          "gantry.half_vector_azimuths: fastest, or check the arms' separation "
-                          "limit against the directions"
-                        : "check the arms' separation limit against the directions");
+                    "check the arms' separation limit against the directions");
   return plan;
+}
+
+// The first spread tolerance of kSpreadTolerancesDeg whose poses leave a collision-free route
+// for `plan_with` (a plan with total_s = inf where none is safe); 0 when the half vectors are
+// not spread or none did (then any azimuth).
+template <class PlanWith>
+VisitPlan SpreadAsFarAsSafe(const GantryMotion& m, const PlanWith& plan_with) {
+  if (m.half_vector_azimuths == HalfVectorAzimuths::kSpread)
+    for (double tolerance_deg : kSpreadTolerancesDeg) {
+      VisitPlan plan = plan_with(DegToRad(tolerance_deg));
+      if (plan.total_s == kInf) continue;
+      plan.spread_tolerance_deg = tolerance_deg;
+      return plan;
+    }
+  return RequireSafe(plan_with(0.0));
 }
 
 }  // namespace
@@ -269,8 +281,10 @@ VisitPlan RequireSafe(VisitPlan plan, const GantryMotion& m) {
 VisitPlan PlanBestAzimuths(const std::vector<Direction>& dirs,
                            const std::vector<std::size_t>& order, const GantryMotion& m) {
   CheckReachable(dirs, m);
-  RouteCosts costs(dirs, m);
-  return RequireSafe(BestAzimuths(costs, order), m);
+  return SpreadAsFarAsSafe(m, [&](double tolerance) {
+    RouteCosts costs(dirs, m, tolerance);
+    return BestAzimuths(costs, order);
+  });
 }
 
 double WidestHalfVectorGap(const VisitPlan& plan, double max_tilt) {
@@ -307,10 +321,13 @@ VisitPlan PlanInFileOrder(const std::vector<Direction>& dirs, const GantryMotion
   return plan;
 }
 
-VisitPlan PlanShortest(const std::vector<Direction>& dirs, const GantryMotion& m) {
-  CheckReachable(dirs, m);
+namespace {
+
+// PlanShortest with the poses' azimuths as RouteCosts allows them (total_s = inf when unsafe).
+VisitPlan ShortestWith(const std::vector<Direction>& dirs, const GantryMotion& m,
+                       double spread_tolerance) {
   const std::size_t n = dirs.size();
-  RouteCosts costs(dirs, m);
+  RouteCosts costs(dirs, m, spread_tolerance);
   // Nearest neighbour over (pose, azimuth) states, then 2-opt with every candidate order costed
   // exactly with its best azimuths.
   std::vector<std::size_t> order;
@@ -351,7 +368,14 @@ VisitPlan PlanShortest(const std::vector<Direction>& dirs, const GantryMotion& m
         }
       }
   }
-  return RequireSafe(plan, m);
+  return plan;
+}
+
+}  // namespace
+
+VisitPlan PlanShortest(const std::vector<Direction>& dirs, const GantryMotion& m) {
+  CheckReachable(dirs, m);
+  return SpreadAsFarAsSafe(m, [&](double tolerance) { return ShortestWith(dirs, m, tolerance); });
 }
 
 }  // namespace acq

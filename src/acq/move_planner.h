@@ -29,14 +29,16 @@ using AxisLimits = TrapezoidProfile;
 // How the planner chooses each pose's half-vector azimuth (phi_h).
 enum class HalfVectorAzimuths {
   kFastest,  // whatever makes the moves shortest (the half vectors may share one side)
-  // Spread round the sample's normal (SpreadHalfVectorAzimuths), each pose within
-  // kSpreadToleranceDeg of its own: a facet tilted any way then has some view's highlight
-  // near it, which a relief's normals need (docs/reconstruction.md, "Half vectors all round").
+  // Spread round the sample's normal (SpreadHalfVectorAzimuths), each pose within a tolerance
+  // of its own (the narrowest of kSpreadTolerancesDeg that leaves a safe route): a facet tilted
+  // any way then has some view's highlight near it, which a relief's normals need
+  // (docs/reconstruction.md, "Half vectors all round").
   kSpread,
 };
 const char* ToString(HalfVectorAzimuths a);  // "fastest", "spread"
 std::optional<HalfVectorAzimuths> HalfVectorAzimuthsNamed(const std::string& name);
-inline constexpr double kSpreadToleranceDeg = 10;
+// Tried in turn until a route is collision-free; past the last, any azimuth (the fastest).
+inline constexpr double kSpreadTolerancesDeg[] = {10, 20, 45, 90};
 
 struct GantryMotion {
   AxisLimits theta{DegToRad(30), DegToRad(60)}, phi{DegToRad(30), DegToRad(60)};  // both arms
@@ -68,6 +70,9 @@ struct PlannedPose {
 struct VisitPlan {
   std::vector<PlannedPose> poses;
   double total_s = 0;  // all moves and settles, home to the last pose
+  // kSpread: how far (degrees) a pose may lie from its spread azimuth in this plan; 0 when the
+  // azimuths are the fastest (asked for, or no tolerance left a safe route).
+  double spread_tolerance_deg = 0;
 };
 
 // Throws UserError naming the direction (its file:line) and the rule when a pose cannot be

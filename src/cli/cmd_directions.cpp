@@ -255,7 +255,12 @@ int DirectionsPlan(const Argv& argv) {
   row("file order, phi_h = 0", naive);
   row("file order, best azimuths", azimuths);
   row("shortest order found, best azimuths", fastest);
-  row("shortest order found, half vectors spread", spread);
+  const std::string spread_row = spread.spread_tolerance_deg > 0
+                                     ? "shortest order found, spread within " +
+                                           DegString(DegToRad(spread.spread_tolerance_deg), 0) +
+                                           " deg"
+                                     : "half vectors spread: no safe route, fastest";
+  row(spread_row.c_str(), spread);
   // What a relief's normals see of it (move_planner.h): tilts up to the seed's 15 degrees.
   const double tilt = DegToRad(kReliefTiltDeg);
   std::printf(

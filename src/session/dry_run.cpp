@@ -125,6 +125,13 @@ std::string HalfVectors(const Plan& plan, const VisitPlan& sample) {
          "most %.1f deg from the nearest\n",
          ToString(azimuths), kReliefTiltDeg,
          RadToDeg(WidestHalfVectorGap(sample, DegToRad(kReliefTiltDeg))));
+  if (azimuths == HalfVectorAzimuths::kSpread && sample.spread_tolerance_deg > 0)
+    Append(&out,
+           "  each pose within %.0f deg of its spread azimuth (the narrowest that leaves a "
+           "collision-free route)\n",
+           sample.spread_tolerance_deg);
+  else if (azimuths == HalfVectorAzimuths::kSpread)
+    out += "  no spread of the azimuths leaves a collision-free route: the fastest are used\n";
   if (plan.reconstruction.normals && azimuths == HalfVectorAzimuths::kFastest)
     out +=
         "  note: the normals are estimated and the half vectors may share one side of the "
