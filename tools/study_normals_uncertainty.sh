@@ -16,7 +16,9 @@ while [ $# -gt 0 ] && [ "$1" != -- ]; do sessions+=("$1"); shift; done
 [ $# -gt 0 ] && { shift; limits=("$@"); }
 mkdir -p "$out"
 csv=$out/normals_uncertainty.csv
-echo "session,limit_deg,search,relief_deg,flat_deg,map_log_rmse,view1,view2,view3,refused,median_uncertainty_deg,relief_certain_deg,relief_uncertain_deg" > "$csv"
+# view1-3: relative RMS; median1-3: median per-pixel relative error; worst1-3: the share of the
+# view's squared error from its worst pixel (one pixel can carry a view: docs/reconstruction.md).
+echo "session,limit_deg,search,relief_deg,flat_deg,map_log_rmse,view1,view2,view3,refused,median_uncertainty_deg,relief_certain_deg,relief_uncertain_deg,median1,median2,median3,worst1,worst2,worst3" > "$csv"
 run() {  # session, limit (0: none), search (on | off), then acq session process options...
   local session=$1 limit=$2 search=$3; shift 3
   local dir
@@ -27,13 +29,16 @@ run() {  # session, limit (0: none), search (on | off), then acq session process
 import json, sys
 r = json.load(open(sys.argv[1])); n = r.get('normals', {})
 def f(v): return '' if v is None else '%.4f' % v
-views = [f(v['relative_rms']) for v in r['validation']][:3]
-views += [''] * (3 - len(views))
+def per_view(key):
+    values = [f(v.get(key)) for v in r['validation']][:3]
+    return values + [''] * (3 - len(values))
+views = per_view('relative_rms')
 print(','.join([sys.argv[2], sys.argv[3], sys.argv[4], f(n.get('median_error_deg_relief')),
                 f(n.get('median_tilt_deg_flat')), f(r['ground_truth']['median_log_rmse'])] + views +
                [str(n.get('refused', '')), f(n.get('median_uncertainty_deg')),
                 f(n.get('median_error_deg_relief_certain')),
-                f(n.get('median_error_deg_relief_uncertain'))]))
+                f(n.get('median_error_deg_relief_uncertain'))] +
+               per_view('median_relative') + per_view('worst_pixel_share')))
 PY
   rm -rf "$dir"
   tail -1 "$csv"
