@@ -55,15 +55,15 @@ std::vector<double> SpreadHalfVectorAzimuths(const std::vector<Direction>& dirs,
   std::vector<Eigen::Vector3d> placed;
   for (std::size_t i : order) {
     const double theta_h = dirs[i].angles.theta_h;
-    double best_phi = 0,
-           best_nearest = -1;  // cosine of the angle to the nearest: smaller is farther
+    // The cosine of the angle to the nearest placed half vector: smaller is farther (and may be
+    // negative, past 90 degrees).
+    double best_phi = 0, best_nearest = kInf;
     for (int s = 0; s < steps && !AtPole(dirs[i]) && !placed.empty(); ++s) {
       const double phi = 2 * kPi * s / steps;
       const Eigen::Vector3d h = SphericalDirection(theta_h, phi);
       double nearest = -1;
       for (const Eigen::Vector3d& p : placed) nearest = std::max(nearest, h.dot(p));
-      if (best_nearest < 0 || nearest < best_nearest - 1e-12)
-        best_nearest = nearest, best_phi = phi;
+      if (nearest < best_nearest - 1e-12) best_nearest = nearest, best_phi = phi;
     }
     azimuths[i] = best_phi;
     placed.push_back(SphericalDirection(theta_h, best_phi));

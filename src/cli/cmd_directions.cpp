@@ -219,6 +219,12 @@ int DirectionsPlan(const Argv& argv) {
   m.phi_h_steps = args.GetInt("azimuth-steps", m.phi_h_steps, 1, 3600);
   m.constraints = ConstraintsFrom(args);
   m.Check();
+  // Checked before any planning, which takes seconds.
+  const std::string chosen = args.Get("half-vector-azimuths", "fastest");
+  const std::optional<HalfVectorAzimuths> azimuths_chosen = HalfVectorAzimuthsNamed(chosen);
+  if (!azimuths_chosen)
+    throw UserError("--half-vector-azimuths",
+                    "must be 'fastest' or 'spread', got '" + chosen + "'");
 
   const VisitPlan naive = PlanInFileOrder(directions, m);
   std::vector<std::size_t> file_order(directions.size());
@@ -228,11 +234,6 @@ int DirectionsPlan(const Argv& argv) {
   GantryMotion spread_motion = m;
   spread_motion.half_vector_azimuths = HalfVectorAzimuths::kSpread;
   const VisitPlan spread = PlanShortest(directions, spread_motion);
-  const std::string chosen = args.Get("half-vector-azimuths", "fastest");
-  const std::optional<HalfVectorAzimuths> azimuths_chosen = HalfVectorAzimuthsNamed(chosen);
-  if (!azimuths_chosen)
-    throw UserError("--half-vector-azimuths",
-                    "must be 'fastest' or 'spread', got '" + chosen + "'");
   const VisitPlan& best = *azimuths_chosen == HalfVectorAzimuths::kSpread ? spread : fastest;
 
   std::printf("visiting order (from home: light %g/%g, camera %g/%g deg):\n",

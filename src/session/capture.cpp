@@ -303,8 +303,8 @@ void CheckResumedPose(const CaptureStep& step, std::size_t i, const CaptureConte
   const std::vector<CatalogFrame> frames = c.catalog.FramesOf(step.step, int(i));
   if (frames.empty()) return;
   const std::string path = c.catalog.directory() + "/" + frames.front().path;
-  const std::string why = PoseMismatch(step.visit->poses[i],
-                                       ReadFloatPlanesExr(path, /*read_pixels=*/false).attributes);
+  const std::string why = PoseMismatch(
+      step.visit->poses[i], ReadFloatPlanesExr(path, /*read_pixels=*/false).attributes, path);
   if (!why.empty())
     throw UserError(path,
                     "this session's " + std::string(ToString(step.step)) + " pose " +
@@ -317,10 +317,11 @@ void CheckResumedPose(const CaptureStep& step, std::size_t i, const CaptureConte
 }  // namespace
 
 std::string PoseMismatch(const PlannedPose& planned,
-                         const std::map<std::string, std::string>& frame_attributes) {
+                         const std::map<std::string, std::string>& frame_attributes,
+                         const std::string& where) {
   const auto commanded = frame_attributes.find("arms_commanded_deg");
   if (commanded == frame_attributes.end()) return {};  // nothing recorded to compare
-  const ArmAngles was = ParseArmAnglesAttribute(commanded->second, "arms_commanded_deg");
+  const ArmAngles was = ParseArmAnglesAttribute(commanded->second, where);
   const ArmAngles& is = planned.arms;
   // The attribute keeps a thousandth of a degree.
   const double tolerance = DegToRad(0.002);
@@ -340,8 +341,8 @@ CaptureReport Capture(const Plan& plan, const CaptureStep& step, CaptureContext&
   const std::vector<PlannedPose>& poses = step.visit->poses;
   for (std::size_t i = 0; i < poses.size(); ++i, ++c.poses_done) {
     status.progress = c.poses_total > 0 ? double(c.poses_done) / c.poses_total : 0;
-    // Empty for an automatic bracket not chosen yet: the pose is not done.
     CheckResumedPose(step, i, c);
+    // Empty for an automatic bracket not chosen yet: the pose is not done.
     const std::vector<double> bracket = RecordedBracket(plan, step, int(i), c.catalog);
     bool done = !bracket.empty();
     for (double t : bracket) done = done && c.catalog.HasFrame(step.step, int(i), t);

@@ -74,8 +74,10 @@ SessionVisits PlanVisits(const Plan& plan);
 // commands for its pose, else what differs. A session resumed by an acqd whose planner visits
 // the directions in another order would otherwise count one direction's frames as another's,
 // never take the one left out, and merge two azimuths in one bracket.
+// UserError naming `where` (the frame) when its arms attribute cannot be read.
 std::string PoseMismatch(const PlannedPose& planned,
-                         const std::map<std::string, std::string>& frame_attributes);
+                         const std::map<std::string, std::string>& frame_attributes,
+                         const std::string& where);
 
 // The steps of a plan in capture order (the calibration boards', then the sample's, then the
 // Spectralon's, so the operator changes the item as few times as can be).
