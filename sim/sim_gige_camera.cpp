@@ -3,6 +3,7 @@
 #include <arv.h>
 #include <unistd.h>
 
+#include <bit>
 #include <chrono>
 #include <cstdio>
 #include <cstring>
@@ -29,6 +30,35 @@ void InsertAfter(std::string* xml, const std::string& anchor, const std::string&
     throw std::runtime_error("Aravis's fake camera XML has no " + anchor +
                              "; this Aravis is not the 0.8 series the simulator was written for");
   xml->insert(at + anchor.size(), text);
+}
+
+// splitmix64's finaliser over h and v: a well-spread 64-bit key from a sequence of values.
+std::uint64_t Mix(std::uint64_t h, std::uint64_t v) {
+  std::uint64_t z = h ^ (v + 0x9e3779b97f4a7c15ull + (h << 6) + (h >> 2));
+  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
+  z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
+  return z ^ (z >> 31);
+}
+
+std::uint64_t Mix(std::uint64_t h, double v) {
+  return Mix(h, std::bit_cast<std::uint64_t>(v));
+}
+
+// A frame's noise seed: the session's seed, the view, the exposure and the gain, and nothing
+// that counts frames. A seeded session then repeats frame for frame whatever the machine's load:
+// a frame the driver takes again (it arrived incomplete) is the same frame, and no later frame
+// shifts. The price: frames taken at the same view and settings repeat their noise too (nothing
+// in the product averages such frames; docs/camera.md).
+std::uint64_t NoiseSeed(std::uint64_t seed, const SimView& v, double exposure_us, double gain_db) {
+  std::uint64_t h = Mix(seed, exposure_us);
+  h = Mix(h, gain_db);
+  for (int i = 0; i < 3; ++i) {
+    h = Mix(h, v.cam_from_sample.r[i]);
+    h = Mix(h, v.cam_from_sample.t[i]);
+    h = Mix(h, v.light.position_mm[i]);
+    h = Mix(h, v.light.rgb[i]);
+  }
+  return Mix(h, v.light.intensity);
 }
 
 bool SameView(const SimView& a, const SimView& b) {
@@ -246,8 +276,9 @@ void SimGigECamera::Fill(void* buffer_pointer, std::uint32_t exposure_us, std::u
       rendered_view_ = view;
       have_render_ = true;
     }
-    frame.counts = Expose(radiance_, frame.exposure_us, frame.gain_db, frame.max_dn,
-                          options_.sensor, options_.seed * 7919u + frame.index);
+    frame.counts =
+        Expose(radiance_, frame.exposure_us, frame.gain_db, frame.max_dn, options_.sensor,
+               NoiseSeed(options_.seed, view, frame.exposure_us, frame.gain_db));
   } else {
     // A region other than the camera model's: no geometry to render it with. A black frame
     // makes the mismatch obvious; the driver sets the model's size.

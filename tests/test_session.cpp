@@ -949,7 +949,17 @@ TEST_CASE(
     const nlohmann::json turned_colour =
         nlohmann::json::parse(ReadText(tmp / "turned/session/report.json")).at("colour");
     CHECK(turned_colour.at("chart_turned_deg") == 90);
-    CHECK(turned_colour.at("chart_patches_used").get<int>() >= 23);  // "black 2" may be noisy
+    // Only noise may drop a patch of the chart laid turned: the darkest one and blue (its red
+    // channel dim) read at this plan's dim two-frame bracket can spread past the 15% uniformity
+    // limit from noise alone (black 2 20-22%, blue 16% measured), never by the fit.
+    for (const nlohmann::json& patch : turned_colour.at("chart_patches"))
+      if (patch.contains("dropped")) {
+        const std::string name = patch.at("name"), why = patch.at("dropped");
+        INFO("turned: " << name << ": " << why);
+        CHECK((name == "black 2" || name == "blue"));
+        CHECK(why.find("not uniform") != std::string::npos);
+      }
+    CHECK(turned_colour.at("chart_patches_used").get<int>() >= 22);
     CHECK(turned_colour.at("chart_residual_delta_e2000_max").get<double>() < 3);
     CHECK(ReadText(tmp / "turned/session/report.txt").find("laid turned 90 degrees") !=
           std::string::npos);
