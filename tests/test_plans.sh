@@ -143,6 +143,9 @@ expect "normals max uncertainty negative" 1 negative_uncertainty.yaml --dry-run 
 variant negative_evidence 's/^  k: 4$/  k: 4\n  normals_evidence: -1/'
 expect "normals evidence negative" 1 negative_evidence.yaml --dry-run -- \
   "negative_evidence.yaml:23:" "reconstruction.normals_evidence must be >= 0"
+variant unknown_confirm 's/^  k: 4$/  k: 4\n  normals_confirm: never/'
+expect "normals confirmation unknown" 1 unknown_confirm.yaml --dry-run -- \
+  "unknown_confirm.yaml:23:" "reconstruction.normals_confirm 'never' is not known" "alone, regrouped or all"
 variant unknown_azimuths 's/^gantry:$/gantry:\n  half_vector_azimuths: random/'
 expect "half-vector azimuths unknown" 1 unknown_azimuths.yaml --dry-run -- \
   "unknown_azimuths.yaml:8:" "gantry.half_vector_azimuths 'random' is not known" "fastest or spread"

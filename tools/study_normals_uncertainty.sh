@@ -1,53 +1,16 @@
 #!/usr/bin/env bash
 # How well the data fix a normal, and what refusing the uncertain ones trades (issue 19;
-# docs/reconstruction.md, "How well the data fix a normal"). Each captured session (made by acqd
-# with a relief, so that its ground truth scores the normals) is processed again from its
-# reconstruction with the search off, on without a limit, and on with each limit of
-# reconstruction.normals_max_uncertainty_deg; one CSV row per run (the relief's median error,
-# the validation views' relative RMS, the refusals, the uncertainty's own figures), and a chart.
+# docs/reconstruction.md, "How well the data fix a normal"): tools/study_normals_settings.sh with
+# one variant a limit of reconstruction.normals_max_uncertainty_deg, each named by its degrees.
 # usage: tools/study_normals_uncertainty.sh OUT_DIR SESSION... [-- LIMIT...]
-#   (limits default 13 6 3 1.5 degrees; each run about 20 s for a 256 x 256 map on 2 cores)
+#   (limits default 13 6 3 1.5 degrees)
 set -euo pipefail
 cd "$(dirname "$0")/.."
-[ $# -ge 2 ] || { sed -n 2,10p "$0"; exit 1; }
+[ $# -ge 2 ] || { sed -n 2,6p "$0"; exit 1; }
 out=$1; shift
 sessions=() limits=(13 6 3 1.5)
 while [ $# -gt 0 ] && [ "$1" != -- ]; do sessions+=("$1"); shift; done
 [ $# -gt 0 ] && { shift; limits=("$@"); }
-mkdir -p "$out"
-csv=$out/normals_uncertainty.csv
-# view1-3: relative RMS; median1-3: median per-pixel relative error; worst1-3: the share of the
-# view's squared error from its worst pixel (one pixel can carry a view: docs/reconstruction.md).
-echo "session,limit_deg,search,relief_deg,flat_deg,map_log_rmse,view1,view2,view3,refused,median_uncertainty_deg,relief_certain_deg,relief_uncertain_deg,median1,median2,median3,worst1,worst2,worst3" > "$csv"
-run() {  # session, limit (0: none), search (on | off), then acq session process options...
-  local session=$1 limit=$2 search=$3; shift 3
-  local dir
-  dir=$(mktemp -d)
-  build/src/cli/acq session process "$session" --from reconstruction "$@" -o "$dir/s" > "$dir/log" 2>&1 ||
-    { cat "$dir/log"; exit 1; }
-  /usr/bin/python3 - "$dir/s/report.json" "$(basename "$session")" "$limit" "$search" >> "$csv" <<'PY'
-import json, sys
-r = json.load(open(sys.argv[1])); n = r.get('normals', {})
-def f(v): return '' if v is None else '%.4f' % v
-def per_view(key):
-    values = [f(v.get(key)) for v in r['validation']][:3]
-    return values + [''] * (3 - len(values))
-views = per_view('relative_rms')
-print(','.join([sys.argv[2], sys.argv[3], sys.argv[4], f(n.get('median_error_deg_relief')),
-                f(n.get('median_tilt_deg_flat')), f(r['ground_truth']['median_log_rmse'])] + views +
-               [str(n.get('refused', '')), f(n.get('median_uncertainty_deg')),
-                f(n.get('median_error_deg_relief_certain')),
-                f(n.get('median_error_deg_relief_uncertain'))] +
-               per_view('median_relative') + per_view('worst_pixel_share')))
-PY
-  rm -rf "$dir"
-  tail -1 "$csv"
-}
-for s in "${sessions[@]}"; do
-  run "$s" 0 off --set reconstruction.normals=false
-  run "$s" 0 on --set reconstruction.normals=true
-  for l in "${limits[@]}"; do
-    run "$s" "$l" on --set reconstruction.normals=true --set "reconstruction.normals_max_uncertainty_deg=$l"
-  done
-done
-/usr/bin/python3 tools/chart_normals_uncertainty.py "$csv" "$out/normals_uncertainty.png"
+variants=()
+for l in "${limits[@]}"; do variants+=("$l:normals_max_uncertainty_deg=$l"); done
+exec tools/study_normals_settings.sh "$out" "${sessions[@]}" -- "${variants[@]}"

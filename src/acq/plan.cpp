@@ -625,7 +625,7 @@ ReconstructionSpec ReadReconstruction(const Section& top, const std::string& bas
       top.Child("reconstruction",
                 {"basis", "k", "eta", "lookup", "row_tile", "method", "groups", "design_sigma_deg",
                  "normals", "normals_prior", "normals_mixed_pixels", "normals_trimmed_views",
-                 "normals_max_uncertainty_deg", "normals_evidence"});
+                 "normals_max_uncertainty_deg", "normals_evidence", "normals_confirm"});
   ReconstructionSpec r;
   r.basis_file = Resolve(base, recon.Required("basis"));
   RequireFile(recon, "basis", r.basis_file, "build one with `acq basis build` (README)");
@@ -656,6 +656,14 @@ ReconstructionSpec ReadReconstruction(const Section& top, const std::string& bas
   r.normals_max_uncertainty_deg =
       recon.Number("normals_max_uncertainty_deg", r.normals_max_uncertainty_deg);
   r.normals_evidence = recon.Number("normals_evidence", r.normals_evidence);
+  const std::string confirm =
+      recon.Text("normals_confirm", NormalConfirmationName(r.normals_confirmation));
+  if (const std::optional<NormalConfirmation> parsed = ParseNormalConfirmation(confirm))
+    r.normals_confirmation = *parsed;
+  else
+    throw UserError(recon.Where("normals_confirm"),
+                    "reconstruction.normals_confirm '" + confirm + "' is not known",
+                    "use alone, regrouped or all (docs/session-and-plan.md)");
   recon.Checked([&] { r.Check(); });
   return r;
 }

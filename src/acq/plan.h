@@ -136,6 +136,8 @@ struct ReconstructionSpec {  // reconstruction:
   // NormalSearchOptions::max_uncertainty_deg
   double normals_max_uncertainty_deg = kDefaultNormalsMaxUncertaintyDeg;
   double normals_evidence = kDefaultNormalsEvidence;  // NormalSearchOptions::evidence
+  // NormalSearchOptions::confirmation (reconstruction.normals_confirm)
+  NormalConfirmation normals_confirmation = kDefaultNormalsConfirmation;
   void Check() const;
 };
 

@@ -224,6 +224,9 @@ std::vector<PlanSetting> PlanSettings(const Plan& plan) {
                  Number(plan.reconstruction.normals_max_uncertainty_deg));
   if (plan.reconstruction.normals_evidence != kDefaultNormalsEvidence)
     s.Processing("reconstruction.normals_evidence", Number(plan.reconstruction.normals_evidence));
+  if (plan.reconstruction.normals_confirmation != kDefaultNormalsConfirmation)
+    s.Processing("reconstruction.normals_confirm",
+                 NormalConfirmationName(plan.reconstruction.normals_confirmation));
   return s.out;
 }
 

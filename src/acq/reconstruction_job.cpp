@@ -34,6 +34,26 @@ PixelObservations ReadSample(ObservationSource& source, const ReconstructionOpti
   return source.Pixels(indices, options.band_rows);
 }
 
+// Pixels `back` go back to the sample's normal (kAssumed) and are solved again as read, as the
+// pooled solve chooses.
+void TakeBackNormals(const BasisView& basis, const PixelObservations& as_read,
+                     const PooledModel& model, const PixelSolveOptions& solve,
+                     const std::vector<int>& back, PixelNormals* normals, PixelSolution* solution,
+                     ReconstructionReport* report) {
+  report->normals_reverted += long(back.size());
+  if (back.empty()) return;
+  const PixelObservations again = as_read.Gather(back);
+  PixelSolution redone;
+  redone.Resize(again.pixels, solution->components);
+  SolvePixelsPooled(basis, again, model, solve, &redone);
+  solution->Scatter(redone, back);
+  for (int p : back) {
+    normals->normal[std::size_t(p)] = Eigen::Vector3f::UnitZ();
+    normals->status[std::size_t(p)] = NormalStatus::kAssumed;
+    normals->uncertainty_deg[std::size_t(p)] = kNoNormalUncertainty;
+  }
+}
+
 // A pixel whose normal was estimated but which the pooled solve left alone (no group of the
 // map's model explains it, or its left-out views preferred its own solve to its group's prior):
 // alone in a tilted frame its coefficients extrapolate wildly (the embossed card through acqd:
@@ -41,8 +61,7 @@ PixelObservations ReadSample(ObservationSource& source, const ReconstructionOpti
 // "Normals"). Its normal was judged by a material's centre, so it is solved again as that
 // judgement assumes, with the prior of the group whose centre explains it, at its estimated
 // normal and at the sample's: the normal stays where a group explains it tilted and fits it
-// better tilted than flat. Otherwise it goes back to the sample's normal and is solved again as
-// read, as the pooled solve chooses (NormalStatus::kAssumed). Counts both in `report`.
+// better tilted than flat. Otherwise it is taken back (TakeBackNormals). Counts both in `report`.
 void SettleUnexplainedNormals(const BasisView& basis, const PixelObservations& as_read,
                               const PixelObservations& turned, const PooledModel& model,
                               const PixelSolveOptions& solve, PixelNormals* normals,
@@ -66,18 +85,38 @@ void SettleUnexplainedNormals(const BasisView& basis, const PixelObservations& a
     if (tilted.group[i] < 0 || (flat.group[i] >= 0 && !(tilted.residual[i] < flat.residual[i])))
       back.push_back(alone[i]);
   report->normals_settled += long(alone.size() - back.size());
-  report->normals_reverted += long(back.size());
-  if (back.empty()) return;
-  const PixelObservations again = as_read.Gather(back);
-  PixelSolution redone;
-  redone.Resize(again.pixels, solution->components);
-  SolvePixelsPooled(basis, again, model, solve, &redone);
-  solution->Scatter(redone, back);
-  for (int p : back) {
-    normals->normal[std::size_t(p)] = Eigen::Vector3f::UnitZ();
-    normals->status[std::size_t(p)] = NormalStatus::kAssumed;
-    normals->uncertainty_deg[std::size_t(p)] = kNoNormalUncertainty;
+  TakeBackNormals(basis, as_read, model, solve, back, normals, solution, report);
+}
+
+// NormalSearchOptions::confirmation kRegrouped or kAll: an estimated normal whose pixel the
+// pooled solve put in a group (in another group than it puts the pixel flat, for kRegrouped)
+// stays only where that solve fits the pixel better tilted than flat; otherwise it is taken
+// back (TakeBackNormals). The search judged the normal by the reference's centres; a pixel of
+// one material that another material's lobe, turned where no view looked, explains as well
+// tilted, is then solved as that material with a highlight no view of the plan saw
+// (docs/reconstruction.md, "The map's own solve confirms a tilt").
+void ConfirmGroupedNormals(const BasisView& basis, const PixelObservations& as_read,
+                           const PooledModel& model, const PixelSolveOptions& solve,
+                           NormalConfirmation confirmation, PixelNormals* normals,
+                           PixelSolution* solution, ReconstructionReport* report) {
+  if (confirmation == NormalConfirmation::kAlone) return;
+  std::vector<int> grouped;
+  for (int p = 0; p < as_read.pixels; ++p)
+    if (normals->status[p] == NormalStatus::kEstimated && solution->group[p] >= 0)
+      grouped.push_back(p);
+  if (grouped.empty()) return;
+  const PixelObservations flat_obs = as_read.Gather(grouped);
+  PixelSolution flat;
+  flat.Resize(flat_obs.pixels, solution->components);
+  SolvePixelsPooled(basis, flat_obs, model, solve, &flat);
+  std::vector<int> back;
+  for (std::size_t i = 0; i < grouped.size(); ++i) {
+    const int p = grouped[i];
+    const bool judged =
+        confirmation == NormalConfirmation::kAll || flat.group[i] != solution->group[p];
+    if (judged && !(solution->residual[p] < flat.residual[i])) back.push_back(p);
   }
+  TakeBackNormals(basis, as_read, model, solve, back, normals, solution, report);
 }
 
 }  // namespace
@@ -121,8 +160,8 @@ std::string ReconstructionReport::NormalsSummary() const {
   char line[512];
   std::snprintf(line, sizeof line,
                 "normals: %ld estimated, %ld refused, %ld without evidence for a tilt (the "
-                "sample's normal kept), %ld taken back (no group explains them better tilted "
-                "than flat), %ld kept with their group's prior",
+                "sample's normal kept), %ld taken back (the map's solve fits them no better "
+                "tilted than flat), %ld kept with their group's prior",
                 normals_estimated, normals_refused, normals_no_evidence, normals_reverted,
                 normals_settled);
   return line;
@@ -199,6 +238,9 @@ ReconstructionReport Reconstruct(const BasisView& basis, ObservationSource& sour
       SolvePixelsPooled(basis, obs, report.model, options.solve, &solution);
     else
       SolvePixels(basis, obs, options.solve, &solution);
+    if (settle)
+      ConfirmGroupedNormals(basis, as_read, report.model, options.solve,
+                            options.normals.confirmation, &normals, &solution, &report);
     if (settle)
       SettleUnexplainedNormals(basis, as_read, obs, report.model, options.solve, &normals,
                                &solution, &report);

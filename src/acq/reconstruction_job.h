@@ -38,7 +38,9 @@ struct ReconstructionReport {
   double normals_max_tilt_deg = 0;                  // options.normals.max_tilt_deg
   long normals_estimated = 0, normals_refused = 0;  // normals.enabled
   long normals_no_evidence = 0;  // a tilt found that did not earn its keep (NormalStatus)
-  long normals_reverted = 0;     // kPooled: estimated, but no group explains them: kAssumed
+  // kPooled: estimated, but the map's solve fits them no better tilted than flat (or no group
+  // explains them; NormalSearchOptions::confirmation): kAssumed.
+  long normals_reverted = 0;
   // kPooled: estimated, left alone by the pooled solve, and kept with their group's prior (a
   // group explains them better tilted than flat; SettleUnexplainedNormals).
   long normals_settled = 0;

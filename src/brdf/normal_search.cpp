@@ -442,6 +442,25 @@ std::optional<NormalCriterion> ParseNormalCriterion(const std::string& name) {
   return std::nullopt;
 }
 
+const char* NormalConfirmationName(NormalConfirmation c) {
+  switch (c) {
+    case NormalConfirmation::kAlone:
+      return "alone";
+    case NormalConfirmation::kRegrouped:
+      return "regrouped";
+    case NormalConfirmation::kAll:
+      return "all";
+  }
+  return "?";
+}
+
+std::optional<NormalConfirmation> ParseNormalConfirmation(const std::string& name) {
+  for (NormalConfirmation c :
+       {NormalConfirmation::kAlone, NormalConfirmation::kRegrouped, NormalConfirmation::kAll})
+    if (name == NormalConfirmationName(c)) return c;
+  return std::nullopt;
+}
+
 const char* NormalSearchMethodName(NormalSearchMethod method) {
   return method == NormalSearchMethod::kGrid ? "grid" : "quadratic";
 }

@@ -50,6 +50,19 @@ enum class NormalCriterion {
 const char* NormalCriterionName(NormalCriterion criterion);  // "fit", "held-out", "centre"
 std::optional<NormalCriterion> ParseNormalCriterion(const std::string& name);
 
+// Which estimated normals the map's own pooled solve must confirm, by fitting the pixel better
+// tilted than at the sample's normal (the reconstruction job does it; a normal it does not
+// confirm goes back to the sample's, kAssumed). The search judges a normal by a centre of the
+// reference's groups; the map is solved with its own model's groups and the pixel's own
+// coefficients, which may explain it otherwise.
+enum class NormalConfirmation {
+  kAlone,      // those the pooled solve left alone (no group of the map's explains them)
+  kRegrouped,  // also those the map's solve puts in another group tilted than flat
+  kAll,        // every estimated normal
+};
+const char* NormalConfirmationName(NormalConfirmation c);  // "alone", "regrouped", "all"
+std::optional<NormalConfirmation> ParseNormalConfirmation(const std::string& name);
+
 enum class NormalSearchMethod { kGrid, kQuadratic };
 const char* NormalSearchMethodName(NormalSearchMethod method);  // "grid", "quadratic"
 std::optional<NormalSearchMethod> ParseNormalSearchMethod(const std::string& name);
@@ -64,6 +77,7 @@ inline constexpr int kDefaultNormalsTrimmedViews = 1;     // NormalSearchOptions
 inline constexpr int kMaxNormalsTrimmedViews = 4;
 inline constexpr double kDefaultNormalsMaxUncertaintyDeg = 0;  // no limit
 inline constexpr double kDefaultNormalsEvidence = 1;           // NormalSearchOptions::evidence
+inline constexpr NormalConfirmation kDefaultNormalsConfirmation = NormalConfirmation::kAlone;
 
 struct NormalSearchOptions {
   bool enabled = false;
@@ -127,6 +141,9 @@ struct NormalSearchOptions {
   // (docs/reconstruction.md, "How well the data fix a normal"): a limit trades the relief's
   // normals for such views; hence none by default.
   double max_uncertainty_deg = kDefaultNormalsMaxUncertaintyDeg;
+  // Pooled reconstructions: which estimated normals the map's solve must confirm
+  // (NormalConfirmation; docs/reconstruction.md, "The map's own solve confirms a tilt").
+  NormalConfirmation confirmation = kDefaultNormalsConfirmation;
   int chunk_pixels = 2048;  // pixels per batch of candidates (memory: chunk x 25 x views)
   void Check(const BasisView& basis) const;  // throws UserError
 };

@@ -56,6 +56,12 @@ NormalSearchMethod NormalSearchMethodFrom(const Args& args, NormalSearchMethod f
   throw UserError("--normals-search", "must be 'grid' or 'quadratic', got '" + m + "'");
 }
 
+NormalConfirmation NormalConfirmationFrom(const Args& args, NormalConfirmation fallback) {
+  const std::string c = args.Get("normals-confirm", NormalConfirmationName(fallback));
+  if (const std::optional<NormalConfirmation> parsed = ParseNormalConfirmation(c)) return *parsed;
+  throw UserError("--normals-confirm", "must be 'alone', 'regrouped' or 'all', got '" + c + "'");
+}
+
 // The sample: a built-in one (--sample) or one described in a file (--sample-labels,
 // --sample-weights), whose size is then the file's.
 sim::MixedSample SampleFrom(const Args& args, const std::vector<std::string>& names, int w, int h,
@@ -175,6 +181,7 @@ int ReconstructSynthetic(const Argv& argv) {
                                   "normals-estimated-min-cos",
                                   "normals-trimmed-views",
                                   "normals-max-uncertainty-deg",
+                                  "normals-confirm",
                                   "normals-search",
                                   "normals-levels",
                                   "normals-coarse-reach"};
@@ -267,6 +274,7 @@ int ReconstructSynthetic(const Argv& argv) {
   r.normals.score_min_cos =
       args.GetDouble("normals-score-min-cos", r.normals.score_min_cos, 0, 0.9);
   r.normals.method = NormalSearchMethodFrom(args, r.normals.method);
+  r.normals.confirmation = NormalConfirmationFrom(args, r.normals.confirmation);
   r.normals.levels = args.GetInt("normals-levels", r.normals.levels, 0, 12);
   r.normals.coarse_reach = args.GetInt("normals-coarse-reach", r.normals.coarse_reach, 1, 4);
   r.progress = !args.Has("quiet");

@@ -170,6 +170,7 @@ ReconstructionReport ReconstructMap(const Plan& plan, const MappedBasis& mapped,
   options.normals.trimmed_views = plan.reconstruction.normals_trimmed_views;
   options.normals.max_uncertainty_deg = plan.reconstruction.normals_max_uncertainty_deg;
   options.normals.evidence = plan.reconstruction.normals_evidence;
+  options.normals.confirmation = plan.reconstruction.normals_confirmation;
   options.progress = false;
   SvbrdfMapInfo info;
   info.basis = plan.reconstruction.basis_file;
