@@ -757,6 +757,30 @@ class LostCamera : public Camera {
   int left_;
 };
 
+// A camera whose grab number `at` (from 0) needed a second take: its frame is whole, and its
+// statistics count an incomplete frame and a retake, as the real driver's do.
+class RetakingCamera : public Camera {
+ public:
+  RetakingCamera(std::unique_ptr<Camera> inner, int at) : inner_(std::move(inner)), at_(at) {}
+  void Apply(const CameraSettings& s) override { inner_->Apply(s); }
+  Frame Grab() override {
+    if (grabs_++ == at_) retaken_ = 1;
+    return inner_->Grab();
+  }
+  StreamStatistics Statistics() const override {
+    StreamStatistics s = inner_->Statistics();
+    s.incomplete += retaken_;
+    s.retakes += retaken_;
+    return s;
+  }
+  std::string Describe() const override { return inner_->Describe(); }
+
+ private:
+  std::unique_ptr<Camera> inner_;
+  int at_, grabs_ = 0;
+  std::uint64_t retaken_ = 0;
+};
+
 // acqd's control socket in-process: what the sequencer published, and an abort once it has
 // published `abort_after` times (0: never).
 class ScriptedChannel : public StatusChannel {
@@ -880,6 +904,31 @@ TEST_CASE("session in-process: a lost camera and an abort, each resumed, give th
   REQUIRE(replayed.planes.size() == recorded.planes.size());
   for (std::size_t c = 0; c < recorded.planes.size(); ++c)
     CHECK(replayed.planes[c] == recorded.planes[c]);
+}
+
+// A frame the driver took again is whole, but the operator is told which one: a warning in the
+// session's events names its file (the report counts them).
+TEST_CASE("session in-process: a frame taken again is named in the session's events",
+          "[integration]") {
+  RecordSharedSessionIfMissing();
+  const test::TempDir tmp;
+  const Plan plan = ReplayPlan(tmp / "replay");
+  SessionHooks hooks;
+  hooks.open = [&plan](const std::function<void(const std::string&)>&) {
+    SessionDevices d = OpenReplayDevices(plan);
+    d.camera = std::make_unique<RetakingCamera>(std::move(d.camera), 30);
+    return d;
+  };
+  ScriptedChannel channel;
+  SessionStatus status;
+  const SessionReport report = RunSession(plan, channel, status, hooks);
+  CHECK(report.retaken_frames == 1);
+  std::vector<std::string> warnings;
+  for (const auto& [level, message] : SessionCatalog(plan.output).Events())
+    if (message.find("arrived incomplete") != std::string::npos) warnings.push_back(message);
+  REQUIRE(warnings.size() == 1);
+  INFO(warnings[0]);
+  CHECK(warnings[0].find(".exr: taken 1 more time(s)") != std::string::npos);
 }
 
 // Issue 16: the same session through a Bayer camera (its cross-talk and the warm light fitted

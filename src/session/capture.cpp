@@ -129,6 +129,16 @@ std::vector<double> RecordedBracket(const Plan& plan, const CaptureStep& step, i
   return ParseBracketText(catalog.Decision(BracketDecisionKey(step.step, pose)));
 }
 
+// A frame the driver had to take again since `retakes_before` is whole, but the operator should
+// know which (a network or a machine that drops packets; each frame's `stream` attribute has the
+// counts): a warning in the session's events naming `what`.
+void NoteRetakes(CaptureContext& c, std::uint64_t retakes_before, const std::string& what) {
+  const std::uint64_t retakes = c.camera.Statistics().retakes;
+  if (retakes > retakes_before)
+    c.catalog.Event("warning", what + ": taken " + std::to_string(retakes - retakes_before) +
+                                   " more time(s), the camera's frame having arrived incomplete");
+}
+
 // The automatic bracket chosen at the pose the gantry holds, recorded so that a resumed run
 // takes the same exposures; returned as the catalog gives it back (what a resumed run reads).
 std::vector<double> ChooseAndRecordBracket(const Plan& plan, const CaptureStep& step, int pose,
@@ -136,8 +146,12 @@ std::vector<double> ChooseAndRecordBracket(const Plan& plan, const CaptureStep& 
   const auto start = SteadyClock::now();
   AutoBracketOptions options;
   if (step.max_auto_frames > 0) options.max_frames = step.max_auto_frames;
+  const std::uint64_t retakes_before = c.camera.Statistics().retakes;
   const std::vector<double> exposures =
       ChooseBracket(c.camera, plan.camera.settings, HdrOptions{}, options);
+  NoteRetakes(c, retakes_before,
+              std::string(ToString(step.step)) + " pose " + std::to_string(pose) +
+                  ", metering its bracket");
   report->bracket_probe_s += SecondsSince(start);
   c.catalog.RecordDecision(BracketDecisionKey(step.step, pose), BracketText(exposures));
   return RecordedBracket(plan, step, pose, c.catalog);
@@ -227,6 +241,7 @@ void TakeFrame(const Plan& plan, const CaptureStep& step, const HeldPose& pose, 
   const auto apply_start = SteadyClock::now();
   c.camera.Apply(settings);
   report->settings_s += SecondsSince(apply_start);
+  const std::uint64_t retakes_before = c.camera.Statistics().retakes;
   const auto grab_start = SteadyClock::now();
   Frame frame = c.camera.Grab();
   const double grab_s = SecondsSince(grab_start);
@@ -243,6 +258,7 @@ void TakeFrame(const Plan& plan, const CaptureStep& step, const HeldPose& pose, 
   const int i = int(pose.index);
   const std::string name = FrameFileName(step.step, i, t);
   const StreamStatistics stats = c.camera.Statistics();
+  NoteRetakes(c, retakes_before, name);
   // Written and recorded by the writer while the gantry moves on (frame_writer.h).
   c.writer.Write(std::move(frame),
                  {{"step", ToString(step.step)},
