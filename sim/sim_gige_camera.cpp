@@ -45,10 +45,10 @@ std::uint64_t Mix(std::uint64_t h, double v) {
 }
 
 // A frame's noise seed: the session's seed, the view, the exposure and the gain, and nothing
-// that counts frames. A seeded session then repeats frame for frame whatever the machine's load:
-// a frame the driver takes again (it arrived incomplete) is the same frame, and no later frame
-// shifts. The price: frames taken at the same view and settings repeat their noise too (nothing
-// in the product averages such frames; docs/camera.md).
+// that counts frames. A seeded session then repeats frame for frame whatever frames were
+// retaken: a frame the driver takes again (it arrived incomplete) is the same frame, and no later
+// frame shifts. The price: frames taken at the same view and settings repeat their noise too
+// (nothing in the product averages such frames; docs/camera.md).
 std::uint64_t NoiseSeed(std::uint64_t seed, const SimView& v, double exposure_us, double gain_db) {
   std::uint64_t h = Mix(seed, exposure_us);
   h = Mix(h, gain_db);

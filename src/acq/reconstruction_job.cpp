@@ -238,12 +238,12 @@ ReconstructionReport Reconstruct(const BasisView& basis, ObservationSource& sour
       SolvePixelsPooled(basis, obs, report.model, options.solve, &solution);
     else
       SolvePixels(basis, obs, options.solve, &solution);
-    if (settle)
+    if (settle) {
       ConfirmGroupedNormals(basis, as_read, report.model, options.solve,
                             options.normals.confirmation, &normals, &solution, &report);
-    if (settle)
       SettleUnexplainedNormals(basis, as_read, obs, report.model, options.solve, &normals,
                                &solution, &report);
+    }
     report.solve_seconds += std::chrono::duration<double>(Clock::now() - solve_start).count();
     // Pixel-major solution -> one plane per channel for the map.
     const std::size_t n = std::size_t(obs.pixels);

@@ -129,13 +129,14 @@ std::vector<double> RecordedBracket(const Plan& plan, const CaptureStep& step, i
   return ParseBracketText(catalog.Decision(BracketDecisionKey(step.step, pose)));
 }
 
-// A frame the driver had to take again since `retakes_before` is whole, but the operator should
-// know which (a network or a machine that drops packets; each frame's `stream` attribute has the
-// counts): a warning in the session's events naming `what`.
-void NoteRetakes(CaptureContext& c, std::uint64_t retakes_before, const std::string& what) {
-  const std::uint64_t retakes = c.camera.Statistics().retakes;
-  if (retakes > retakes_before)
-    c.catalog.Event("warning", what + ": taken " + std::to_string(retakes - retakes_before) +
+// Frames the driver had to take again (the camera's retake count went from `before` to
+// `after`) are whole, but the operator should know which (a network or a machine that drops
+// packets; each frame's `stream` attribute has the counts): a warning in the session's events
+// naming `what`.
+void NoteRetakes(CaptureContext& c, std::uint64_t before, std::uint64_t after,
+                 const std::string& what) {
+  if (after > before)
+    c.catalog.Event("warning", what + ": taken " + std::to_string(after - before) +
                                    " more time(s), the camera's frame having arrived incomplete");
 }
 
@@ -149,7 +150,7 @@ std::vector<double> ChooseAndRecordBracket(const Plan& plan, const CaptureStep& 
   const std::uint64_t retakes_before = c.camera.Statistics().retakes;
   const std::vector<double> exposures =
       ChooseBracket(c.camera, plan.camera.settings, HdrOptions{}, options);
-  NoteRetakes(c, retakes_before,
+  NoteRetakes(c, retakes_before, c.camera.Statistics().retakes,
               std::string(ToString(step.step)) + " pose " + std::to_string(pose) +
                   ", metering its bracket");
   report->bracket_probe_s += SecondsSince(start);
@@ -258,7 +259,7 @@ void TakeFrame(const Plan& plan, const CaptureStep& step, const HeldPose& pose, 
   const int i = int(pose.index);
   const std::string name = FrameFileName(step.step, i, t);
   const StreamStatistics stats = c.camera.Statistics();
-  NoteRetakes(c, retakes_before, name);
+  NoteRetakes(c, retakes_before, stats.retakes, name);
   // Written and recorded by the writer while the gantry moves on (frame_writer.h).
   c.writer.Write(std::move(frame),
                  {{"step", ToString(step.step)},
