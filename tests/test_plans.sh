@@ -143,6 +143,15 @@ expect "normals max uncertainty negative" 1 negative_uncertainty.yaml --dry-run 
 variant negative_evidence 's/^  k: 4$/  k: 4\n  normals_evidence: -1/'
 expect "normals evidence negative" 1 negative_evidence.yaml --dry-run -- \
   "negative_evidence.yaml:23:" "reconstruction.normals_evidence must be >= 0"
+variant steep_min_tilt 's/^  k: 4$/  k: 4\n  normals_min_tilt_deg: 25/'
+expect "normals min tilt out of range" 1 steep_min_tilt.yaml --dry-run -- \
+  "steep_min_tilt.yaml:23:" "reconstruction.normals_min_tilt_deg must be from 0 to under 20 degrees"
+variant wordy_view_weights 's/^  k: 4$/  k: 4\n  normals_view_weights: sometimes/'
+expect "normals view weights not a flag" 1 wordy_view_weights.yaml --dry-run -- \
+  "wordy_view_weights.yaml:23:" "normals_view_weights"
+variant big_score_cos 's/^  k: 4$/  k: 4\n  normals_score_min_cos: 1.5/'
+expect "normals score cosine out of range" 1 big_score_cos.yaml --dry-run -- \
+  "big_score_cos.yaml:23:" "reconstruction.normals_score_min_cos must be from 0 to 0.9"
 variant unknown_confirm 's/^  k: 4$/  k: 4\n  normals_confirm: never/'
 expect "normals confirmation unknown" 1 unknown_confirm.yaml --dry-run -- \
   "unknown_confirm.yaml:23:" "reconstruction.normals_confirm 'never' is not known" "alone, regrouped or all"

@@ -625,7 +625,8 @@ ReconstructionSpec ReadReconstruction(const Section& top, const std::string& bas
       top.Child("reconstruction",
                 {"basis", "k", "eta", "lookup", "row_tile", "method", "groups", "design_sigma_deg",
                  "normals", "normals_prior", "normals_mixed_pixels", "normals_trimmed_views",
-                 "normals_max_uncertainty_deg", "normals_evidence", "normals_confirm"});
+                 "normals_max_uncertainty_deg", "normals_evidence", "normals_score_min_cos",
+                 "normals_view_weights", "normals_min_tilt_deg", "normals_confirm"});
   ReconstructionSpec r;
   r.basis_file = Resolve(base, recon.Required("basis"));
   RequireFile(recon, "basis", r.basis_file, "build one with `acq basis build` (README)");
@@ -656,6 +657,9 @@ ReconstructionSpec ReadReconstruction(const Section& top, const std::string& bas
   r.normals_max_uncertainty_deg =
       recon.Number("normals_max_uncertainty_deg", r.normals_max_uncertainty_deg);
   r.normals_evidence = recon.Number("normals_evidence", r.normals_evidence);
+  r.normals_score_min_cos = recon.Number("normals_score_min_cos", r.normals_score_min_cos);
+  r.normals_view_weights = recon.Flag("normals_view_weights", r.normals_view_weights);
+  r.normals_min_tilt_deg = recon.Number("normals_min_tilt_deg", r.normals_min_tilt_deg);
   const std::string confirm =
       recon.Text("normals_confirm", NormalConfirmationName(r.normals_confirmation));
   if (const std::optional<NormalConfirmation> parsed = ParseNormalConfirmation(confirm))
@@ -769,6 +773,13 @@ void ReconstructionSpec::Check() const {
   if (!(normals_evidence >= 0))
     throw UserError("normals_evidence", "must be >= 0",
                     "the multiple of the information criterion a tilt must beat; 0 for none");
+  if (!(normals_min_tilt_deg >= 0 && normals_min_tilt_deg < 20))
+    throw UserError("normals_min_tilt_deg", "must be from 0 to under 20 degrees",
+                    "a normal tilted less than this from the sample's is not kept; 0 keeps all");
+  if (!(normals_score_min_cos >= 0 && normals_score_min_cos <= 0.9))
+    throw UserError("normals_score_min_cos", "must be from 0 to 0.9",
+                    "the cosine to a candidate facet at or below which a view or light is left "
+                    "out of its score; 0 keeps all but those behind it");
 }
 
 namespace {

@@ -135,7 +135,10 @@ struct ReconstructionSpec {  // reconstruction:
   int normals_trimmed_views = kDefaultNormalsTrimmedViews;  // NormalSearchOptions::trimmed_views
   // NormalSearchOptions::max_uncertainty_deg
   double normals_max_uncertainty_deg = kDefaultNormalsMaxUncertaintyDeg;
-  double normals_evidence = kDefaultNormalsEvidence;  // NormalSearchOptions::evidence
+  double normals_evidence = kDefaultNormalsEvidence;          // NormalSearchOptions::evidence
+  double normals_score_min_cos = kDefaultNormalsScoreMinCos;  // NormalSearchOptions::score_min_cos
+  bool normals_view_weights = kDefaultNormalsViewWeights;     // NormalSearchOptions::view_weights
+  double normals_min_tilt_deg = kDefaultNormalsMinTiltDeg;    // NormalSearchOptions::min_tilt_deg
   // NormalSearchOptions::confirmation (reconstruction.normals_confirm)
   NormalConfirmation normals_confirmation = kDefaultNormalsConfirmation;
   void Check() const;

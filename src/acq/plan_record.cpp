@@ -224,6 +224,15 @@ std::vector<PlanSetting> PlanSettings(const Plan& plan) {
                  Number(plan.reconstruction.normals_max_uncertainty_deg));
   if (plan.reconstruction.normals_evidence != kDefaultNormalsEvidence)
     s.Processing("reconstruction.normals_evidence", Number(plan.reconstruction.normals_evidence));
+  if (plan.reconstruction.normals_min_tilt_deg != kDefaultNormalsMinTiltDeg)
+    s.Processing("reconstruction.normals_min_tilt_deg",
+                 Number(plan.reconstruction.normals_min_tilt_deg));
+  if (plan.reconstruction.normals_view_weights != kDefaultNormalsViewWeights)
+    s.Processing("reconstruction.normals_view_weights",
+                 plan.reconstruction.normals_view_weights ? "true" : "false");
+  if (plan.reconstruction.normals_score_min_cos != kDefaultNormalsScoreMinCos)
+    s.Processing("reconstruction.normals_score_min_cos",
+                 Number(plan.reconstruction.normals_score_min_cos));
   if (plan.reconstruction.normals_confirmation != kDefaultNormalsConfirmation)
     s.Processing("reconstruction.normals_confirm",
                  NormalConfirmationName(plan.reconstruction.normals_confirmation));

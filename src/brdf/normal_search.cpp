@@ -259,7 +259,20 @@ struct CentreScorer {
     for (std::size_t i = 0; i < used.size(); ++i)
       for (int ch = 0; ch < 3; ++ch)
         view_misfit[i] += std::pow(predicted(used[i], ch) - y[3 * i + ch], 2);
+    Weigh(g, g);
     return TrimmedRms(trim);
+  }
+  // Each used view's squared misfit times its weight (PooledGroup::view_weight; a mixture of
+  // groups a and b: the mean of theirs).
+  void Weigh(int a, int b) {
+    const std::vector<double>& wa = model.groups[a].view_weight;
+    const std::vector<double>& wb = model.groups[b].view_weight;
+    if (wa.empty() && wb.empty()) return;
+    for (std::size_t i = 0; i < used.size(); ++i) {
+      const std::size_t v = std::size_t(used[i]);
+      const double w = 0.5 * ((v < wa.size() ? wa[v] : 1.0) + (v < wb.size() ? wb[v] : 1.0));
+      view_misfit[i] *= w;
+    }
   }
   // Each used view's squared misfit summed over its channels (Misfit's, MixedMisfit's).
   std::vector<double> view_misfit;
@@ -312,7 +325,7 @@ struct CentreScorer {
   }
   // The RMS log-space misfit of slots a and b mixed, `share` of a's (MapBrdf of the mixture),
   // over the used views but the `trim` worst-explained; the logarithms in one expression.
-  double MixedMisfit(int a, int b, float share, int trim) {
+  double MixedMisfit(int a, int b, int group_a, int group_b, float share, int trim) {
     mixed_square =
         ((share * brdf_cosw[a] + (1 - share) * brdf_cosw[b] + float(kLogMappingEps)).log() -
          observed)
@@ -320,6 +333,7 @@ struct CentreScorer {
     view_misfit.resize(used.size());
     for (std::size_t i = 0; i < used.size(); ++i)
       view_misfit[i] = double(mixed_square.segment(Eigen::Index(3 * i), 3).sum());
+    Weigh(group_a, group_b);
     return TrimmedRms(trim);
   }
   Eigen::ArrayXf mixed_square;  // MixedMisfit's per residual
@@ -351,7 +365,7 @@ struct CentreScorer {
         for (std::size_t b = a + 1; b < groups.size(); ++b)
           for (float share : kMixedShares) {
             const bool a_first = share >= 0.5f;
-            consider(MixedMisfit(int(a), int(b), share, o.trimmed_views),
+            consider(MixedMisfit(int(a), int(b), groups[a], groups[b], share, o.trimmed_views),
                      a_first ? groups[a] : groups[b], a_first ? groups[b] : groups[a],
                      a_first ? share : 1 - share);
           }
@@ -480,6 +494,11 @@ void NormalSearchOptions::Check(const BasisView& basis) const {
     throw UserError("normals k", "must be in [1, " + std::to_string(basis.components) + "]");
   if (!(prior >= 0)) throw UserError("normals prior", "must be >= 0");
   if (!(evidence >= 0)) throw UserError("normals evidence", "must be >= 0");
+  if (!(min_tilt_deg >= 0 && min_tilt_deg < max_tilt_deg))
+    throw UserError("normals min tilt",
+                    "must be from 0 to under the search's cone (" + std::to_string(max_tilt_deg) +
+                        " degrees), got " + std::to_string(min_tilt_deg),
+                    "a tilt under it keeps the sample's normal; 0 keeps every tilt");
   if (!(estimated_min_cos >= 0 && estimated_min_cos < 1))
     throw UserError("normals estimated min cos", "must be in [0, 1)");
   if (levels < 0 || levels > 12) throw UserError("normals levels", "must be in [0, 12]");
@@ -699,6 +718,7 @@ PixelNormals EstimateNormals(const BasisView& basis, PixelObservations* obs,
   const bool by_centre = o.criterion == NormalCriterion::kCentre;
   if (by_centre && (!reference || reference->groups.empty())) return out;
   const float cone = float(std::tan(DegToRad(o.max_tilt_deg)));
+  const float min_slope = float(std::tan(DegToRad(o.min_tilt_deg)));
   for (int first = 0; first < obs->pixels; first += o.chunk_pixels) {
     const int count = std::min(o.chunk_pixels, obs->pixels - first);
     const ChunkSearch c =
@@ -719,7 +739,7 @@ PixelNormals EstimateNormals(const BasisView& basis, PixelObservations* obs,
         out.status[first + p] = NormalStatus::kRefused;
         continue;
       }
-      if (!TiltEarnsItsKeep(c.flat[p], best, o.evidence)) {
+      if (!TiltEarnsItsKeep(c.flat[p], best, o.evidence) || best.slope.norm() < min_slope) {
         out.status[first + p] = NormalStatus::kNoEvidence;
         continue;
       }
@@ -841,6 +861,53 @@ void DropReliefGroups(const BasisView& basis, const PixelObservations& sample,
   model->groups = std::move(kept);
 }
 
+// WeighViewsByScatter: a view's squared misfit floored at this share of the mean over views, so
+// that a view the centre happens to fit almost exactly does not take the whole score.
+constexpr double kViewScatterFloor = 0.1;
+// Fewer sample pixels than this in a group: its views stay unweighted (a median of fewer is
+// noise).
+constexpr int kMinScatterMembers = 30;
+
+// Each group's views weighted by how well its centre predicts its own sample pixels there
+// (NormalSearchOptions::view_weights): w_v = mean_u(m_u) / m_v, m_v the median over the group's
+// pixels of the view's squared misfit (3 channels) at the sample's normal, floored.
+void WeighViewsByScatter(const BasisView& basis, const PixelObservations& sample,
+                         const PixelSolveOptions& solve, const NormalSearchOptions& search,
+                         PooledModel* model) {
+  const std::vector<std::vector<int>> members =
+      ReferenceMembers(basis, sample, *model, solve, search.chunk_pixels);
+  for (std::size_t g = 0; g < model->groups.size(); ++g) {
+    if (int(members[g].size()) < kMinScatterMembers) continue;
+    const PixelObservations pixels = sample.Gather(members[g]);
+    const DarkViews dark(basis, pixels, 0, 0, solve.lookup);
+    CentreScorer scorer(basis, *model, solve.lookup, dark);
+    std::vector<std::vector<double>> per_view(std::size_t(pixels.views));
+    for (int p = 0; p < pixels.pixels; ++p) {
+      scorer.one.Resize(1, pixels.views);
+      ToFacetFrame(Eigen::Vector3f::UnitZ(), search.min_cos, pixels, p, &scorer.one, 0);
+      scorer.Prepare(model->groups[g].centre_components);
+      scorer.Misfit(int(g), 0);
+      for (std::size_t i = 0; i < scorer.used.size(); ++i)
+        per_view[std::size_t(scorer.used[i])].push_back(scorer.view_misfit[i]);
+    }
+    std::vector<double> median(per_view.size(), 0.0);
+    double sum = 0;
+    int seen = 0;
+    for (std::size_t v = 0; v < per_view.size(); ++v) {
+      if (per_view[v].empty()) continue;
+      median[v] = Median(per_view[v]);
+      sum += median[v];
+      ++seen;
+    }
+    if (seen == 0 || !(sum > 0)) continue;
+    const double mean = sum / seen;
+    std::vector<double>& w = model->groups[g].view_weight;
+    w.assign(per_view.size(), 1.0);
+    for (std::size_t v = 0; v < per_view.size(); ++v)
+      if (!per_view[v].empty()) w[v] = mean / std::max(median[v], kViewScatterFloor * mean);
+  }
+}
+
 }  // namespace
 
 PooledModel FitNormalReference(const BasisView& basis, const PixelObservations& sample,
@@ -864,6 +931,7 @@ PooledModel FitNormalReference(const BasisView& basis, const PixelObservations& 
   // A number of groups the user forced is kept as fitted.
   if (pooled.groups <= 0 && model.groups.size() > 1 && search.enabled)
     DropReliefGroups(basis, sample, solve, search, &model);
+  if (search.view_weights) WeighViewsByScatter(basis, sample, solve, search, &model);
   return model;
 }
 

@@ -97,6 +97,10 @@ struct PooledGroup {
   // A pixel whose observations the centre misses by more than this (RMS, log space) is not of
   // the group: the 99th percentile over the group's sample pixels.
   double misfit_limit = 0;
+  // Per view (the pixels' view index): the weight of its squared misfit in the normal search's
+  // score (normal_search.h, NormalSearchOptions::view_weights); empty: every view 1. Set by
+  // FitNormalReference only.
+  std::vector<double> view_weight;
 };
 
 struct PooledModel {

@@ -87,6 +87,7 @@ const std::map<std::string, Command>& Commands() {
         "    [--normals-max-tilt-deg 25] [--normals-prior 0.5] [--normals-k 8]\n"
         "    [--normals-criterion fit|held-out|centre] [--normals-score-min-cos 0]\n"
         "    [--normals-evidence 1] [--normals-estimated-min-cos 0]\n"
+        "    [--normals-min-tilt-deg 0.75] [--normals-view-weights on|off]\n"
         "    [--normals-search grid|quadratic] [--normals-levels N] [--normals-coarse-reach 1] "
         "[--normals-single-centre]\n"
         "    [--normals-trimmed-views 1] [--normals-max-uncertainty-deg 0]\n"

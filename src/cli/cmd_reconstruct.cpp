@@ -23,6 +23,13 @@
 namespace acq::cli {
 namespace {
 
+bool OnOffFrom(const Args& args, const std::string& name, bool fallback) {
+  const std::string v = args.Get(name, fallback ? "on" : "off");
+  if (v == "on") return true;
+  if (v == "off") return false;
+  throw UserError("--" + name, "must be 'on' or 'off', got '" + v + "'");
+}
+
 RowLookup LookupFrom(const Args& args) {
   const std::string l = args.Get("lookup", "nearest");
   if (const std::optional<RowLookup> lookup = ParseRowLookup(l)) return *lookup;
@@ -178,6 +185,8 @@ int ReconstructSynthetic(const Argv& argv) {
                                   "normals-criterion",
                                   "normals-score-min-cos",
                                   "normals-evidence",
+                                  "normals-min-tilt-deg",
+                                  "normals-view-weights",
                                   "normals-estimated-min-cos",
                                   "normals-trimmed-views",
                                   "normals-max-uncertainty-deg",
@@ -260,6 +269,7 @@ int ReconstructSynthetic(const Argv& argv) {
   r.pooled.seed = o.seed;
   r.normals.enabled = args.Has("normals");
   r.normals.mixed_pixels = !args.Has("normals-single-centre");
+  r.normals.view_weights = OnOffFrom(args, "normals-view-weights", r.normals.view_weights);
   r.normals.trimmed_views =
       args.GetInt("normals-trimmed-views", r.normals.trimmed_views, 0, kMaxNormalsTrimmedViews);
   r.normals.max_uncertainty_deg =
@@ -269,6 +279,7 @@ int ReconstructSynthetic(const Argv& argv) {
   r.normals.components = args.GetInt("normals-k", r.normals.components, 1, 64);
   r.normals.criterion = NormalCriterionFrom(args, r.normals.criterion);
   r.normals.evidence = args.GetDouble("normals-evidence", r.normals.evidence, 0, 1e6);
+  r.normals.min_tilt_deg = args.GetDouble("normals-min-tilt-deg", r.normals.min_tilt_deg, 0, 59);
   r.normals.estimated_min_cos =
       args.GetDouble("normals-estimated-min-cos", r.normals.estimated_min_cos, 0, 0.9);
   r.normals.score_min_cos =

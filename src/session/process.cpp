@@ -170,6 +170,9 @@ ReconstructionReport ReconstructMap(const Plan& plan, const MappedBasis& mapped,
   options.normals.trimmed_views = plan.reconstruction.normals_trimmed_views;
   options.normals.max_uncertainty_deg = plan.reconstruction.normals_max_uncertainty_deg;
   options.normals.evidence = plan.reconstruction.normals_evidence;
+  options.normals.score_min_cos = plan.reconstruction.normals_score_min_cos;
+  options.normals.view_weights = plan.reconstruction.normals_view_weights;
+  options.normals.min_tilt_deg = plan.reconstruction.normals_min_tilt_deg;
   options.normals.confirmation = plan.reconstruction.normals_confirmation;
   options.progress = false;
   SvbrdfMapInfo info;
