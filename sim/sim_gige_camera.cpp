@@ -12,6 +12,7 @@
 #include <stdexcept>
 
 #include "calib/synthetic_board.h"
+#include "core/splitmix.h"
 #include "hw/aravis_camera.h"
 
 namespace acq::sim {
@@ -32,12 +33,10 @@ void InsertAfter(std::string* xml, const std::string& anchor, const std::string&
   xml->insert(at + anchor.size(), text);
 }
 
-// splitmix64's finaliser over h and v: a well-spread 64-bit key from a sequence of values.
+// A well-spread 64-bit key from a sequence of values: each folded into the key so far, then
+// splitmix64's finaliser.
 std::uint64_t Mix(std::uint64_t h, std::uint64_t v) {
-  std::uint64_t z = h ^ (v + 0x9e3779b97f4a7c15ull + (h << 6) + (h >> 2));
-  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
-  z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
-  return z ^ (z >> 31);
+  return SplitMix64Finalise(h ^ (v + kGoldenGamma + (h << 6) + (h >> 2)));
 }
 
 std::uint64_t Mix(std::uint64_t h, double v) {

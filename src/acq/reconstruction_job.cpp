@@ -7,6 +7,7 @@
 #include "brdf/pooled_solver.h"
 #include "core/error.h"
 #include "core/progress.h"
+#include "core/splitmix.h"
 
 namespace acq {
 namespace {
@@ -15,10 +16,7 @@ namespace {
 // the sampled fraction, so the sample is spread over the whole image and does not depend on
 // how the source is cut into bands.
 bool InSample(std::size_t index, double fraction, std::uint64_t seed) {
-  std::uint64_t z = index + seed * 0x9e3779b97f4a7c15ull;  // splitmix64
-  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
-  z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
-  z ^= z >> 31;
+  const std::uint64_t z = SplitMix64Finalise(index + seed * kGoldenGamma);
   return double(z >> 11) * 0x1.0p-53 < fraction;
 }
 
