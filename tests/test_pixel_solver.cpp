@@ -6,6 +6,7 @@
 #include <Eigen/Eigenvalues>
 #include <cstdio>
 #include <filesystem>
+#include <functional>
 
 #include "acq/correspondence_source.h"
 #include "acq/height_from_normals.h"
@@ -1599,6 +1600,72 @@ TEST_CASE("a mixed pixel at an embossed ink edge is judged by two inks' centres 
   CHECK(two_centres_flat < 0.5);
 }
 
+TEST_CASE("a tilt only another ink's centre explains keeps the sample's normal", "[normals]") {
+  const Fixture& d = Data();
+  // The embossed ink card with its edge pixels mixed (each a share of two inks, at the edge's
+  // tilt): where a footprint straddles inks, a tilt can be explained by a glossier ink than the
+  // one that explains the pixel flat.
+  sim::SyntheticSvbrdf scene = EmbossedInkCard();
+  std::vector<int> mixed;
+  const PixelObservations observed = MixedEdgeObservations(scene, d.continuous, &mixed);
+  NormalSearchOptions search;
+  search.enabled = true;
+  const PooledModel reference =
+      FitNormalReference(d.basis.View(), observed, PerPixel(), {}, search);
+  INFO("reference groups " << reference.groups.size());
+  const auto estimate = [&](bool same_centre) {
+    NormalSearchOptions o = search;
+    o.same_centre = same_centre;
+    PixelObservations obs = observed;
+    return EstimateNormals(d.basis.View(), &obs, PerPixel(), o, &reference);
+  };
+  const PixelNormals free = estimate(false), kept = estimate(true);
+  int kept_back = 0;
+  std::vector<double> relief_error, relief_error_free, kept_back_error;  // degrees
+  for (std::size_t p = 0; p < scene.label.size(); ++p) {
+    // The rule only keeps normals back: every normal it lets through is the same one.
+    if (kept.status[p] == NormalStatus::kEstimated) {
+      CHECK(free.status[p] == NormalStatus::kEstimated);
+      CHECK(kept.normal[p] == free.normal[p]);
+    } else if (free.status[p] == NormalStatus::kEstimated) {
+      ++kept_back;
+      CHECK(kept.status[p] == NormalStatus::kNoEvidence);
+      CHECK(kept.normal[p] == Eigen::Vector3f::UnitZ());
+    } else {
+      CHECK(kept.status[p] == free.status[p]);
+    }
+    if (NormalAngle(scene.normal[p], Eigen::Vector3f::UnitZ()) > DegToRad(0.5)) {
+      relief_error.push_back(RadToDeg(NormalAngle(scene.normal[p], kept.normal[p])));
+      relief_error_free.push_back(RadToDeg(NormalAngle(scene.normal[p], free.normal[p])));
+      if (free.status[p] == NormalStatus::kEstimated && kept.status[p] != NormalStatus::kEstimated)
+        kept_back_error.push_back(RadToDeg(NormalAngle(scene.normal[p], free.normal[p])));
+    }
+  }
+  INFO("kept back " << kept_back << " (" << kept_back_error.size() << " on the relief, their "
+                    << "normals " << Median(kept_back_error) << " degrees off); relief "
+                    << Median(relief_error) << " (without the rule " << Median(relief_error_free)
+                    << ")");
+  REQUIRE(kept_back > 0);  // else this test says nothing
+  // Measured: 117 kept back, all on the relief, their normals 3.7 degrees off (median); the
+  // relief 1.36 degrees, 1.32 without the rule: the goal (2) still met.
+  CHECK(Median(relief_error) < 2.0);
+  // A forced number of groups is not checked to be materials (one may be a relief, judging
+  // relief pixels flat): the rule stands aside. Measured before it did: with four groups
+  // forced it kept back 389 normals and the relief went from 1.72 to 2.79 degrees.
+  PooledOptions four_groups;
+  four_groups.groups = 4;
+  const PooledModel forced =
+      FitNormalReference(d.basis.View(), observed, PerPixel(), four_groups, search);
+  REQUIRE_FALSE(forced.groups_are_materials);
+  NormalSearchOptions o = search;
+  PixelObservations obs = observed;
+  const PixelNormals with_forced = EstimateNormals(d.basis.View(), &obs, PerPixel(), o, &forced);
+  o.same_centre = false;
+  obs = observed;
+  const PixelNormals without = EstimateNormals(d.basis.View(), &obs, PerPixel(), o, &forced);
+  CHECK(with_forced.status == without.status);
+}
+
 TEST_CASE("a view the centre fits badly cannot be dropped by tilting away from it", "[normals]") {
   const Fixture& d = Data();
   // Flat white paint, 40 mm at 1 m (the example plan's): the grazing light's zenith varies by
@@ -1784,6 +1851,23 @@ TEST_CASE("relief too steep for the search: refused, never NaN", "[normals]") {
   }
 }
 
+// A pooled reconstruction of `source` through the job, options as `set` leaves them, and its map.
+struct PooledRun {
+  ReconstructionReport report;
+  SvbrdfMap map;
+};
+PooledRun ReconstructPooled(sim::SyntheticSource& source,
+                            const std::function<void(ReconstructionOptions*)>& set) {
+  ReconstructionOptions r;
+  r.method = ReconstructionMethod::kPooled;
+  r.progress = false;
+  set(&r);
+  test::TempDir dir;
+  PooledRun out{Reconstruct(Data().basis.View(), source, r, {}, dir / "m.exr"), {}};
+  out.map = ReadSvbrdfMap(dir / "m.exr");
+  return out;
+}
+
 TEST_CASE("pooled: a pixel no group explains keeps the sample's normal", "[normals][pooled]") {
   const Fixture& d = Data();
   sim::SyntheticSvbrdf scene = EmbossedInkCard();
@@ -1821,20 +1905,12 @@ TEST_CASE("pooled: the map's solve confirms a tilt, or it goes back to the sampl
   sim::ObservationOptions noisy;
   noisy.noise_sigma = 0.03;
   sim::SyntheticSource source(scene, d.continuous, d.views, noisy);
-  struct Run {
-    ReconstructionReport report;
-    SvbrdfMap map;
-  };
+  using Run = PooledRun;
   const auto run = [&](NormalConfirmation confirmation) {
-    ReconstructionOptions r;
-    r.method = ReconstructionMethod::kPooled;
-    r.normals.enabled = true;
-    r.normals.confirmation = confirmation;
-    r.progress = false;
-    test::TempDir dir;
-    Run out{Reconstruct(d.basis.View(), source, r, {}, dir / "m.exr"), {}};
-    out.map = ReadSvbrdfMap(dir / "m.exr");
-    return out;
+    return ReconstructPooled(source, [&](ReconstructionOptions* r) {
+      r->normals.enabled = true;
+      r->normals.confirmation = confirmation;
+    });
   };
   const Run alone = run(NormalConfirmation::kAlone);
   const Run regrouped = run(NormalConfirmation::kRegrouped);
@@ -1846,8 +1922,10 @@ TEST_CASE("pooled: the map's solve confirms a tilt, or it goes back to the sampl
   // least as many; kAll must have had work, or the checks below say nothing.
   CHECK(regrouped.report.normals_reverted >= alone.report.normals_reverted);
   CHECK(all.report.normals_reverted > regrouped.report.normals_reverted);
-  CHECK(all.report.normals_estimated + all.report.normals_reverted ==
-        alone.report.normals_estimated + alone.report.normals_reverted);
+  const auto settled = [](const ReconstructionReport& r) {  // every normal the search estimated
+    return r.normals_estimated + r.normals_reverted + r.normals_mixed_regrouped;
+  };
+  CHECK(settled(all.report) == settled(alone.report));
   // A normal taken back is the sample's, flagged as assumed, and its pixel solved as read.
   std::vector<double> relief_error;
   for (int y = 0; y < 48; ++y)
@@ -1864,6 +1942,55 @@ TEST_CASE("pooled: the map's solve confirms a tilt, or it goes back to the sampl
   // The issue's goal over the relief holds with every tilt confirmed.
   INFO("relief " << Median(relief_error));
   CHECK(Median(relief_error) < 2.0);
+}
+
+TEST_CASE("pooled: a mixed pixel's tilt keeps its group", "[normals][pooled]") {
+  const Fixture& d = Data();
+  sim::SyntheticSvbrdf scene = EmbossedInkCard();
+  sim::ObservationOptions noisy;
+  noisy.noise_sigma = 0.03;
+  sim::SyntheticSource source(scene, d.continuous, d.views, noisy);
+  using Run = PooledRun;
+  const auto run = [&](bool normals, bool same_group) {
+    return ReconstructPooled(source, [&](ReconstructionOptions* r) {
+      r->normals.enabled = normals;
+      r->normals.mixed_same_group = same_group;
+    });
+  };
+  // The model is fitted on the same sample as read whatever the normals: one model, and each
+  // pixel's group flat is the search-off map's.
+  const Run flat = run(false, false), free = run(true, false), kept = run(true, true);
+  const auto regrouped = [&](const Run& tilted, int x, int y) {
+    const float g = tilted.map.Plane("group", x, y), f = flat.map.Plane("group", x, y);
+    return tilted.map.Plane("normal_status", x, y) == float(NormalStatus::kEstimated) && g >= 0 &&
+           f >= 0 && g != f;
+  };
+  int regrouped_free = 0, regrouped_kept = 0, taken_back_here = 0;
+  for (int y = 0; y < 48; ++y)
+    for (int x = 0; x < 48; ++x) {
+      regrouped_free += regrouped(free, x, y);
+      regrouped_kept += regrouped(kept, x, y);
+      taken_back_here += free.map.Plane("normal_status", x, y) == float(NormalStatus::kEstimated) &&
+                         kept.map.Plane("normal_status", x, y) == float(NormalStatus::kAssumed);
+    }
+  const long taken_back = kept.report.normals_mixed_regrouped;
+  INFO("estimated normals in another group than flat: "
+       << regrouped_free << " free, " << regrouped_kept << " kept; taken back " << taken_back);
+  // The rule must have had work, or this test says nothing. The two maps differ only in the
+  // pixels taken back (the solve is deterministic), each one of those regrouped; unmixed
+  // pixels are not judged, so some stay regrouped. (What the rule buys is measured through
+  // acqd, where a pixel's footprint straddles inks and facets: docs/reconstruction.md, "A mixed
+  // pixel's tilt keeps its group". This card's pixels are each one ink on one facet, and the 72
+  // it takes back predict directions no view saw about as well either way: relative RMS 0.984
+  // taken back against 0.977 tilted, measured.)
+  REQUIRE(taken_back > 0);
+  CHECK(taken_back_here == taken_back);
+  CHECK(regrouped_kept == regrouped_free - taken_back);
+  // Every normal the search estimated is accounted for once.
+  const auto accounted = [](const ReconstructionReport& r) {
+    return r.normals_estimated + r.normals_reverted + r.normals_mixed_regrouped;
+  };
+  CHECK(accounted(kept.report) == accounted(free.report));
 }
 
 TEST_CASE("a height map integrated from the normals is the relief's", "[normals]") {

@@ -149,6 +149,12 @@ expect "normals min tilt out of range" 1 steep_min_tilt.yaml --dry-run -- \
 variant wordy_view_weights 's/^  k: 4$/  k: 4\n  normals_view_weights: sometimes/'
 expect "normals view weights not a flag" 1 wordy_view_weights.yaml --dry-run -- \
   "wordy_view_weights.yaml:23:" "normals_view_weights"
+variant wordy_mixed_same_group 's/^  k: 4$/  k: 4\n  normals_mixed_same_group: mostly/'
+expect "normals mixed same group not a flag" 1 wordy_mixed_same_group.yaml --dry-run -- \
+  "wordy_mixed_same_group.yaml:23:" "normals_mixed_same_group"
+variant wordy_same_centre 's/^  k: 4$/  k: 4\n  normals_same_centre: yes-ish/'
+expect "normals same centre not a flag" 1 wordy_same_centre.yaml --dry-run -- \
+  "wordy_same_centre.yaml:23:" "normals_same_centre"
 variant big_score_cos 's/^  k: 4$/  k: 4\n  normals_score_min_cos: 1.5/'
 expect "normals score cosine out of range" 1 big_score_cos.yaml --dry-run -- \
   "big_score_cos.yaml:23:" "reconstruction.normals_score_min_cos must be from 0 to 0.9"

@@ -621,12 +621,26 @@ SimSpec ReadSim(const YAML::Node& root, const Section& top, const std::string& b
 }
 
 ReconstructionSpec ReadReconstruction(const Section& top, const std::string& base) {
-  const Section recon =
-      top.Child("reconstruction",
-                {"basis", "k", "eta", "lookup", "row_tile", "method", "groups", "design_sigma_deg",
-                 "normals", "normals_prior", "normals_mixed_pixels", "normals_trimmed_views",
-                 "normals_max_uncertainty_deg", "normals_evidence", "normals_score_min_cos",
-                 "normals_view_weights", "normals_min_tilt_deg", "normals_confirm"});
+  const Section recon = top.Child("reconstruction", {"basis",
+                                                     "k",
+                                                     "eta",
+                                                     "lookup",
+                                                     "row_tile",
+                                                     "method",
+                                                     "groups",
+                                                     "design_sigma_deg",
+                                                     "normals",
+                                                     "normals_prior",
+                                                     "normals_mixed_pixels",
+                                                     "normals_trimmed_views",
+                                                     "normals_max_uncertainty_deg",
+                                                     "normals_evidence",
+                                                     "normals_score_min_cos",
+                                                     "normals_view_weights",
+                                                     "normals_min_tilt_deg",
+                                                     "normals_confirm",
+                                                     "normals_mixed_same_group",
+                                                     "normals_same_centre"});
   ReconstructionSpec r;
   r.basis_file = Resolve(base, recon.Required("basis"));
   RequireFile(recon, "basis", r.basis_file, "build one with `acq basis build` (README)");
@@ -660,6 +674,8 @@ ReconstructionSpec ReadReconstruction(const Section& top, const std::string& bas
   r.normals_score_min_cos = recon.Number("normals_score_min_cos", r.normals_score_min_cos);
   r.normals_view_weights = recon.Flag("normals_view_weights", r.normals_view_weights);
   r.normals_min_tilt_deg = recon.Number("normals_min_tilt_deg", r.normals_min_tilt_deg);
+  r.normals_mixed_same_group = recon.Flag("normals_mixed_same_group", r.normals_mixed_same_group);
+  r.normals_same_centre = recon.Flag("normals_same_centre", r.normals_same_centre);
   const std::string confirm =
       recon.Text("normals_confirm", NormalConfirmationName(r.normals_confirmation));
   if (const std::optional<NormalConfirmation> parsed = ParseNormalConfirmation(confirm))

@@ -230,6 +230,12 @@ std::vector<PlanSetting> PlanSettings(const Plan& plan) {
   if (plan.reconstruction.normals_view_weights != kDefaultNormalsViewWeights)
     s.Processing("reconstruction.normals_view_weights",
                  plan.reconstruction.normals_view_weights ? "true" : "false");
+  if (plan.reconstruction.normals_same_centre != kDefaultNormalsSameCentre)
+    s.Processing("reconstruction.normals_same_centre",
+                 plan.reconstruction.normals_same_centre ? "true" : "false");
+  if (plan.reconstruction.normals_mixed_same_group != kDefaultNormalsMixedSameGroup)
+    s.Processing("reconstruction.normals_mixed_same_group",
+                 plan.reconstruction.normals_mixed_same_group ? "true" : "false");
   if (plan.reconstruction.normals_score_min_cos != kDefaultNormalsScoreMinCos)
     s.Processing("reconstruction.normals_score_min_cos",
                  Number(plan.reconstruction.normals_score_min_cos));

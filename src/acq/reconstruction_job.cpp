@@ -32,19 +32,24 @@ PixelObservations ReadSample(ObservationSource& source, const ReconstructionOpti
   return source.Pixels(indices, options.band_rows);
 }
 
+// The pooled solve of pixels `which` as read (at the sample's normal), in that order.
+PixelSolution SolveAsRead(const BasisView& basis, const PixelObservations& as_read,
+                          const PooledModel& model, const PixelSolveOptions& solve,
+                          const std::vector<int>& which, int components) {
+  const PixelObservations gathered = as_read.Gather(which);
+  PixelSolution solution;
+  solution.Resize(gathered.pixels, components);
+  SolvePixelsPooled(basis, gathered, model, solve, &solution);
+  return solution;
+}
+
 // Pixels `back` go back to the sample's normal (kAssumed) and are solved again as read, as the
-// pooled solve chooses.
+// pooled solve chooses. The caller counts them.
 void TakeBackNormals(const BasisView& basis, const PixelObservations& as_read,
                      const PooledModel& model, const PixelSolveOptions& solve,
-                     const std::vector<int>& back, PixelNormals* normals, PixelSolution* solution,
-                     ReconstructionReport* report) {
-  report->normals_reverted += long(back.size());
+                     const std::vector<int>& back, PixelNormals* normals, PixelSolution* solution) {
   if (back.empty()) return;
-  const PixelObservations again = as_read.Gather(back);
-  PixelSolution redone;
-  redone.Resize(again.pixels, solution->components);
-  SolvePixelsPooled(basis, again, model, solve, &redone);
-  solution->Scatter(redone, back);
+  solution->Scatter(SolveAsRead(basis, as_read, model, solve, back, solution->components), back);
   for (int p : back) {
     normals->normal[std::size_t(p)] = Eigen::Vector3f::UnitZ();
     normals->status[std::size_t(p)] = NormalStatus::kAssumed;
@@ -83,7 +88,8 @@ void SettleUnexplainedNormals(const BasisView& basis, const PixelObservations& a
     if (tilted.group[i] < 0 || (flat.group[i] >= 0 && !(tilted.residual[i] < flat.residual[i])))
       back.push_back(alone[i]);
   report->normals_settled += long(alone.size() - back.size());
-  TakeBackNormals(basis, as_read, model, solve, back, normals, solution, report);
+  report->normals_reverted += long(back.size());
+  TakeBackNormals(basis, as_read, model, solve, back, normals, solution);
 }
 
 // NormalSearchOptions::confirmation kRegrouped or kAll: an estimated normal whose pixel the
@@ -103,10 +109,8 @@ void ConfirmGroupedNormals(const BasisView& basis, const PixelObservations& as_r
     if (normals->status[p] == NormalStatus::kEstimated && solution->group[p] >= 0)
       grouped.push_back(p);
   if (grouped.empty()) return;
-  const PixelObservations flat_obs = as_read.Gather(grouped);
-  PixelSolution flat;
-  flat.Resize(flat_obs.pixels, solution->components);
-  SolvePixelsPooled(basis, flat_obs, model, solve, &flat);
+  const PixelSolution flat =
+      SolveAsRead(basis, as_read, model, solve, grouped, solution->components);
   std::vector<int> back;
   for (std::size_t i = 0; i < grouped.size(); ++i) {
     const int p = grouped[i];
@@ -114,7 +118,29 @@ void ConfirmGroupedNormals(const BasisView& basis, const PixelObservations& as_r
         confirmation == NormalConfirmation::kAll || flat.group[i] != solution->group[p];
     if (judged && !(solution->residual[p] < flat.residual[i])) back.push_back(p);
   }
-  TakeBackNormals(basis, as_read, model, solve, back, normals, solution, report);
+  report->normals_reverted += long(back.size());
+  TakeBackNormals(basis, as_read, model, solve, back, normals, solution);
+}
+
+// NormalSearchOptions::mixed_same_group: a normal the search judged by two centres mixed, whose
+// pixel the map's solve puts in another group tilted than flat (a group flat), is taken back
+// (TakeBackNormals).
+void ConfirmMixedNormals(const BasisView& basis, const PixelObservations& as_read,
+                         const PooledModel& model, const PixelSolveOptions& solve,
+                         PixelNormals* normals, PixelSolution* solution,
+                         ReconstructionReport* report) {
+  std::vector<int> mixed;
+  for (int p = 0; p < as_read.pixels; ++p)
+    if (normals->status[p] == NormalStatus::kEstimated && normals->mixed[p] &&
+        solution->group[p] >= 0)
+      mixed.push_back(p);
+  if (mixed.empty()) return;
+  const PixelSolution flat = SolveAsRead(basis, as_read, model, solve, mixed, solution->components);
+  std::vector<int> back;
+  for (std::size_t i = 0; i < mixed.size(); ++i)
+    if (flat.group[i] >= 0 && flat.group[i] != solution->group[mixed[i]]) back.push_back(mixed[i]);
+  report->normals_mixed_regrouped += long(back.size());
+  TakeBackNormals(basis, as_read, model, solve, back, normals, solution);
 }
 
 }  // namespace
@@ -159,9 +185,10 @@ std::string ReconstructionReport::NormalsSummary() const {
   std::snprintf(line, sizeof line,
                 "normals: %ld estimated, %ld refused, %ld without evidence for a tilt (the "
                 "sample's normal kept), %ld taken back (the map's solve fits them no better "
-                "tilted than flat), %ld kept with their group's prior",
+                "tilted than flat), %ld taken back (judged as two inks mixed, in another "
+                "group tilted than flat), %ld kept with their group's prior",
                 normals_estimated, normals_refused, normals_no_evidence, normals_reverted,
-                normals_settled);
+                normals_mixed_regrouped, normals_settled);
   return line;
 }
 
@@ -241,6 +268,9 @@ ReconstructionReport Reconstruct(const BasisView& basis, ObservationSource& sour
                             options.normals.confirmation, &normals, &solution, &report);
       SettleUnexplainedNormals(basis, as_read, obs, report.model, options.solve, &normals,
                                &solution, &report);
+      if (options.normals.mixed_same_group)
+        ConfirmMixedNormals(basis, as_read, report.model, options.solve, &normals, &solution,
+                            &report);
     }
     report.solve_seconds += std::chrono::duration<double>(Clock::now() - solve_start).count();
     // Pixel-major solution -> one plane per channel for the map.

@@ -44,6 +44,10 @@ struct ReconstructionReport {
   // kPooled: estimated, left alone by the pooled solve, and kept with their group's prior (a
   // group explains them better tilted than flat; SettleUnexplainedNormals).
   long normals_settled = 0;
+  // kPooled, NormalSearchOptions::mixed_same_group: estimated by two centres mixed, but the
+  // map's solve puts the pixel in another group tilted than flat: kAssumed (not in
+  // normals_reverted).
+  long normals_mixed_regrouped = 0;
   double normal_seconds = 0;
   double solve_seconds = 0, total_seconds = 0;
   void Print() const;

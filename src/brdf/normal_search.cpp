@@ -519,6 +519,7 @@ void PixelNormals::Resize(int pixels) {
   normal.assign(pixels, Eigen::Vector3f::UnitZ());
   status.assign(pixels, NormalStatus::kAssumed);
   uncertainty_deg.assign(pixels, kNoNormalUncertainty);
+  mixed.assign(pixels, 0);
 }
 
 void ToFacetFrame(const Eigen::Vector3f& n, double min_cos, const PixelObservations& from,
@@ -739,7 +740,12 @@ PixelNormals EstimateNormals(const BasisView& basis, PixelObservations* obs,
         out.status[first + p] = NormalStatus::kRefused;
         continue;
       }
-      if (!TiltEarnsItsKeep(c.flat[p], best, o.evidence) || best.slope.norm() < min_slope) {
+      // A tilt that only another material explains (NormalSearchOptions::same_centre).
+      const bool other_centre = by_centre && o.same_centre && reference->groups_are_materials &&
+                                best.second < 0 && c.flat[p].group >= 0 &&
+                                best.group != c.flat[p].group;
+      if (!TiltEarnsItsKeep(c.flat[p], best, o.evidence) || best.slope.norm() < min_slope ||
+          other_centre) {
         out.status[first + p] = NormalStatus::kNoEvidence;
         continue;
       }
@@ -752,6 +758,7 @@ PixelNormals EstimateNormals(const BasisView& basis, PixelObservations* obs,
       const Eigen::Vector3f n = NormalOfSlope(best.slope.x(), best.slope.y());
       out.normal[first + p] = n;
       out.status[first + p] = NormalStatus::kEstimated;
+      out.mixed[first + p] = best.second >= 0;
       ToFacetFrame(n, std::max(o.min_cos, o.estimated_min_cos), CopyPixels(*obs, first + p, 1), 0,
                    obs, first + p);
     }
@@ -929,8 +936,10 @@ PooledModel FitNormalReference(const BasisView& basis, const PixelObservations& 
   // material's relief are taken out after.
   PooledModel model = FitPooledModel(basis, sample, solve, reference);
   // A number of groups the user forced is kept as fitted.
-  if (pooled.groups <= 0 && model.groups.size() > 1 && search.enabled)
-    DropReliefGroups(basis, sample, solve, search, &model);
+  if (pooled.groups <= 0 && search.enabled) {
+    if (model.groups.size() > 1) DropReliefGroups(basis, sample, solve, search, &model);
+    model.groups_are_materials = true;
+  }
   if (search.view_weights) WeighViewsByScatter(basis, sample, solve, search, &model);
   return model;
 }

@@ -120,6 +120,10 @@ struct PooledModel {
   // alone (PooledOptions::groups_must_beat_independent); 0 otherwise.
   double dropped_held_out_rms = 0;
   int sample_pixels = 0;  // usable pixels of the sample
+  // FitNormalReference: the groups that are another group's relief were taken out, so each
+  // group is a material (NormalSearchOptions::same_centre relies on it); not with a forced
+  // number of groups.
+  bool groups_are_materials = false;
   // A feature vector of per-channel coefficients (3 x k, R then G then B).
   void Feature(const float* coefficients, int k, double* feature) const;
   // The (at most) m groups whose centroids are nearest a feature vector, nearest first.

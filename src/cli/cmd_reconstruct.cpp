@@ -187,6 +187,8 @@ int ReconstructSynthetic(const Argv& argv) {
                                   "normals-evidence",
                                   "normals-min-tilt-deg",
                                   "normals-view-weights",
+                                  "normals-mixed-same-group",
+                                  "normals-same-centre",
                                   "normals-estimated-min-cos",
                                   "normals-trimmed-views",
                                   "normals-max-uncertainty-deg",
@@ -270,6 +272,9 @@ int ReconstructSynthetic(const Argv& argv) {
   r.normals.enabled = args.Has("normals");
   r.normals.mixed_pixels = !args.Has("normals-single-centre");
   r.normals.view_weights = OnOffFrom(args, "normals-view-weights", r.normals.view_weights);
+  r.normals.same_centre = OnOffFrom(args, "normals-same-centre", r.normals.same_centre);
+  r.normals.mixed_same_group =
+      OnOffFrom(args, "normals-mixed-same-group", r.normals.mixed_same_group);
   r.normals.trimmed_views =
       args.GetInt("normals-trimmed-views", r.normals.trimmed_views, 0, kMaxNormalsTrimmedViews);
   r.normals.max_uncertainty_deg =

@@ -173,6 +173,8 @@ ReconstructionReport ReconstructMap(const Plan& plan, const MappedBasis& mapped,
   options.normals.score_min_cos = plan.reconstruction.normals_score_min_cos;
   options.normals.view_weights = plan.reconstruction.normals_view_weights;
   options.normals.min_tilt_deg = plan.reconstruction.normals_min_tilt_deg;
+  options.normals.mixed_same_group = plan.reconstruction.normals_mixed_same_group;
+  options.normals.same_centre = plan.reconstruction.normals_same_centre;
   options.normals.confirmation = plan.reconstruction.normals_confirmation;
   options.progress = false;
   SvbrdfMapInfo info;

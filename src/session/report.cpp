@@ -102,11 +102,14 @@ std::string SessionReport::Json() const {
         {"model_s", r.model_seconds}};
   }
   if (r.normals_searched)
-    j["map"]["normals"] = {
-        {"estimated", r.normals_estimated},     {"refused", r.normals_refused},
-        {"no_evidence", r.normals_no_evidence}, {"taken_back", r.normals_reverted},
-        {"kept_with_prior", r.normals_settled}, {"many_refused", r.ManyNormalsRefused()},
-        {"search_s", r.normal_seconds}};
+    j["map"]["normals"] = {{"estimated", r.normals_estimated},
+                           {"refused", r.normals_refused},
+                           {"no_evidence", r.normals_no_evidence},
+                           {"taken_back", r.normals_reverted},
+                           {"mixed_regrouped", r.normals_mixed_regrouped},
+                           {"kept_with_prior", r.normals_settled},
+                           {"many_refused", r.ManyNormalsRefused()},
+                           {"search_s", r.normal_seconds}};
   const SessionCalibration& c = p.calibration;
   int found = 0;
   for (const BoardPoseResult& b : c.boards) found += b.found;
