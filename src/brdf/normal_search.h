@@ -88,8 +88,8 @@ inline constexpr bool kDefaultNormalsViewWeights = true;   // NormalSearchOption
 inline constexpr double kDefaultNormalsMinTiltDeg = 0.75;  // NormalSearchOptions::min_tilt_deg
 inline constexpr NormalConfirmation kDefaultNormalsConfirmation = NormalConfirmation::kAlone;
 // Through acqd on eleven captures (docs/reconstruction.md, "A mixed pixel's tilt keeps its
-// group"): the validation views worse by relative RMS than with the search off from 11 of 33
-// to 6, the relief's normals from 0.86-1.48 to 0.87-1.51 degrees.
+// group"): the validation views worse by relative RMS than with the search off from 12 of 33
+// to 8, the relief's normals from 0.86-1.48 to 0.87-1.51 degrees.
 inline constexpr bool kDefaultNormalsMixedSameGroup =
     true;  // NormalSearchOptions::mixed_same_group
 // The same eleven captures with mixed_same_group (docs/reconstruction.md, "A tilt keeps the
@@ -178,7 +178,7 @@ struct NormalSearchOptions {
   // group's material: turned into the facet's frame, a pixel at an ink edge can fit a glossy
   // ink's prior whose lobe falls between the plan's views, and is then rendered with that ink's
   // whole highlight where the search judged it by a share of it (black fabric on an embossed
-  // border given brass's: 99% of a validation view's error from four pixels).
+  // border given brass's: 80% of a validation view's squared error from three pixels).
   bool mixed_same_group = kDefaultNormalsMixedSameGroup;
   // Criterion kCentre: a best normal judged by one centre other than the one that judges the
   // pixel at the sample's normal keeps the sample's normal (kNoEvidence). The reference's groups
