@@ -1613,13 +1613,13 @@ TEST_CASE("a tilt only another ink's centre explains keeps the sample's normal",
   const PooledModel reference =
       FitNormalReference(d.basis.View(), observed, PerPixel(), {}, search);
   INFO("reference groups " << reference.groups.size());
-  const auto estimate = [&](bool same_centre) {
+  const auto estimate = [&](const PooledModel& by, bool same_centre) {
     NormalSearchOptions o = search;
     o.same_centre = same_centre;
     PixelObservations obs = observed;
-    return EstimateNormals(d.basis.View(), &obs, PerPixel(), o, &reference);
+    return EstimateNormals(d.basis.View(), &obs, PerPixel(), o, &by);
   };
-  const PixelNormals free = estimate(false), kept = estimate(true);
+  const PixelNormals free = estimate(reference, false), kept = estimate(reference, true);
   int kept_back = 0;
   std::vector<double> relief_error, relief_error_free, kept_back_error;  // degrees
   for (std::size_t p = 0; p < scene.label.size(); ++p) {
@@ -1657,13 +1657,7 @@ TEST_CASE("a tilt only another ink's centre explains keeps the sample's normal",
   const PooledModel forced =
       FitNormalReference(d.basis.View(), observed, PerPixel(), four_groups, search);
   REQUIRE_FALSE(forced.groups_are_materials);
-  NormalSearchOptions o = search;
-  PixelObservations obs = observed;
-  const PixelNormals with_forced = EstimateNormals(d.basis.View(), &obs, PerPixel(), o, &forced);
-  o.same_centre = false;
-  obs = observed;
-  const PixelNormals without = EstimateNormals(d.basis.View(), &obs, PerPixel(), o, &forced);
-  CHECK(with_forced.status == without.status);
+  CHECK(estimate(forced, true).status == estimate(forced, false).status);
 }
 
 TEST_CASE("a view the centre fits badly cannot be dropped by tilting away from it", "[normals]") {
@@ -1851,6 +1845,18 @@ TEST_CASE("relief too steep for the search: refused, never NaN", "[normals]") {
   }
 }
 
+// The embossed ink card (EmbossedInkCard) as an observation source, with `noise` (relative).
+sim::SyntheticSource EmbossedInkSource(double noise) {
+  sim::ObservationOptions o;
+  o.noise_sigma = noise;
+  return sim::SyntheticSource(EmbossedInkCard(), Data().continuous, Data().views, o);
+}
+
+// Every normal the search estimated, whatever the job did with it after.
+long SearchEstimated(const ReconstructionReport& r) {
+  return r.normals_estimated + r.normals_reverted + r.normals_mixed_regrouped;
+}
+
 // A pooled reconstruction of `source` through the job, options as `set` leaves them, and its map.
 struct PooledRun {
   ReconstructionReport report;
@@ -1869,16 +1875,11 @@ PooledRun ReconstructPooled(sim::SyntheticSource& source,
 }
 
 TEST_CASE("pooled: a pixel no group explains keeps the sample's normal", "[normals][pooled]") {
-  const Fixture& d = Data();
-  sim::SyntheticSvbrdf scene = EmbossedInkCard();
-  sim::SyntheticSource source(scene, d.continuous, d.views, {});
-  ReconstructionOptions r;
-  r.method = ReconstructionMethod::kPooled;
-  r.normals.enabled = true;
-  r.progress = false;
-  test::TempDir dir;
-  const ReconstructionReport report = Reconstruct(d.basis.View(), source, r, {}, dir / "m.exr");
-  const SvbrdfMap map = ReadSvbrdfMap(dir / "m.exr");
+  sim::SyntheticSource source = EmbossedInkSource(0);
+  const PooledRun run =
+      ReconstructPooled(source, [](ReconstructionOptions* r) { r->normals.enabled = true; });
+  const ReconstructionReport& report = run.report;
+  const SvbrdfMap& map = run.map;
   // The guard must have had work (else the check below says nothing): the embossed card's ink
   // edges leave pixels that no group explains (measured: 221 of 2,304, all estimated alone
   // without the guard).
@@ -1900,21 +1901,17 @@ TEST_CASE("pooled: a pixel no group explains keeps the sample's normal", "[norma
 
 TEST_CASE("pooled: the map's solve confirms a tilt, or it goes back to the sample's normal",
           "[normals][pooled]") {
-  const Fixture& d = Data();
-  sim::SyntheticSvbrdf scene = EmbossedInkCard();
-  sim::ObservationOptions noisy;
-  noisy.noise_sigma = 0.03;
-  sim::SyntheticSource source(scene, d.continuous, d.views, noisy);
-  using Run = PooledRun;
+  sim::SyntheticSource source = EmbossedInkSource(0.03);
+  const sim::SyntheticSvbrdf& scene = source.scene();
   const auto run = [&](NormalConfirmation confirmation) {
     return ReconstructPooled(source, [&](ReconstructionOptions* r) {
       r->normals.enabled = true;
       r->normals.confirmation = confirmation;
     });
   };
-  const Run alone = run(NormalConfirmation::kAlone);
-  const Run regrouped = run(NormalConfirmation::kRegrouped);
-  const Run all = run(NormalConfirmation::kAll);
+  const PooledRun alone = run(NormalConfirmation::kAlone);
+  const PooledRun regrouped = run(NormalConfirmation::kRegrouped);
+  const PooledRun all = run(NormalConfirmation::kAll);
   INFO("taken back: alone " << alone.report.normals_reverted << ", regrouped "
                             << regrouped.report.normals_reverted << ", all "
                             << all.report.normals_reverted);
@@ -1922,10 +1919,7 @@ TEST_CASE("pooled: the map's solve confirms a tilt, or it goes back to the sampl
   // least as many; kAll must have had work, or the checks below say nothing.
   CHECK(regrouped.report.normals_reverted >= alone.report.normals_reverted);
   CHECK(all.report.normals_reverted > regrouped.report.normals_reverted);
-  const auto settled = [](const ReconstructionReport& r) {  // every normal the search estimated
-    return r.normals_estimated + r.normals_reverted + r.normals_mixed_regrouped;
-  };
-  CHECK(settled(all.report) == settled(alone.report));
+  CHECK(SearchEstimated(all.report) == SearchEstimated(alone.report));
   // A normal taken back is the sample's, flagged as assumed, and its pixel solved as read.
   std::vector<double> relief_error;
   for (int y = 0; y < 48; ++y)
@@ -1945,12 +1939,7 @@ TEST_CASE("pooled: the map's solve confirms a tilt, or it goes back to the sampl
 }
 
 TEST_CASE("pooled: a mixed pixel's tilt keeps its group", "[normals][pooled]") {
-  const Fixture& d = Data();
-  sim::SyntheticSvbrdf scene = EmbossedInkCard();
-  sim::ObservationOptions noisy;
-  noisy.noise_sigma = 0.03;
-  sim::SyntheticSource source(scene, d.continuous, d.views, noisy);
-  using Run = PooledRun;
+  sim::SyntheticSource source = EmbossedInkSource(0.03);
   const auto run = [&](bool normals, bool same_group) {
     return ReconstructPooled(source, [&](ReconstructionOptions* r) {
       r->normals.enabled = normals;
@@ -1959,8 +1948,8 @@ TEST_CASE("pooled: a mixed pixel's tilt keeps its group", "[normals][pooled]") {
   };
   // The model is fitted on the same sample as read whatever the normals: one model, and each
   // pixel's group flat is the search-off map's.
-  const Run flat = run(false, false), free = run(true, false), kept = run(true, true);
-  const auto regrouped = [&](const Run& tilted, int x, int y) {
+  const PooledRun flat = run(false, false), free = run(true, false), kept = run(true, true);
+  const auto regrouped = [&](const PooledRun& tilted, int x, int y) {
     const float g = tilted.map.Plane("group", x, y), f = flat.map.Plane("group", x, y);
     return tilted.map.Plane("normal_status", x, y) == float(NormalStatus::kEstimated) && g >= 0 &&
            f >= 0 && g != f;
@@ -1987,10 +1976,7 @@ TEST_CASE("pooled: a mixed pixel's tilt keeps its group", "[normals][pooled]") {
   CHECK(taken_back_here == taken_back);
   CHECK(regrouped_kept == regrouped_free - taken_back);
   // Every normal the search estimated is accounted for once.
-  const auto accounted = [](const ReconstructionReport& r) {
-    return r.normals_estimated + r.normals_reverted + r.normals_mixed_regrouped;
-  };
-  CHECK(accounted(kept.report) == accounted(free.report));
+  CHECK(SearchEstimated(kept.report) == SearchEstimated(free.report));
 }
 
 TEST_CASE("a height map integrated from the normals is the relief's", "[normals]") {

@@ -44,10 +44,12 @@ PixelSolution SolveAsRead(const BasisView& basis, const PixelObservations& as_re
 }
 
 // Pixels `back` go back to the sample's normal (kAssumed) and are solved again as read, as the
-// pooled solve chooses. The caller counts them.
+// pooled solve chooses; counted in `taken_back` (the report's count for the reason).
 void TakeBackNormals(const BasisView& basis, const PixelObservations& as_read,
                      const PooledModel& model, const PixelSolveOptions& solve,
-                     const std::vector<int>& back, PixelNormals* normals, PixelSolution* solution) {
+                     const std::vector<int>& back, PixelNormals* normals, PixelSolution* solution,
+                     long* taken_back) {
+  *taken_back += long(back.size());
   if (back.empty()) return;
   solution->Scatter(SolveAsRead(basis, as_read, model, solve, back, solution->components), back);
   for (int p : back) {
@@ -88,8 +90,7 @@ void SettleUnexplainedNormals(const BasisView& basis, const PixelObservations& a
     if (tilted.group[i] < 0 || (flat.group[i] >= 0 && !(tilted.residual[i] < flat.residual[i])))
       back.push_back(alone[i]);
   report->normals_settled += long(alone.size() - back.size());
-  report->normals_reverted += long(back.size());
-  TakeBackNormals(basis, as_read, model, solve, back, normals, solution);
+  TakeBackNormals(basis, as_read, model, solve, back, normals, solution, &report->normals_reverted);
 }
 
 // NormalSearchOptions::confirmation kRegrouped or kAll: an estimated normal whose pixel the
@@ -118,8 +119,7 @@ void ConfirmGroupedNormals(const BasisView& basis, const PixelObservations& as_r
         confirmation == NormalConfirmation::kAll || flat.group[i] != solution->group[p];
     if (judged && !(solution->residual[p] < flat.residual[i])) back.push_back(p);
   }
-  report->normals_reverted += long(back.size());
-  TakeBackNormals(basis, as_read, model, solve, back, normals, solution);
+  TakeBackNormals(basis, as_read, model, solve, back, normals, solution, &report->normals_reverted);
 }
 
 // NormalSearchOptions::mixed_same_group: a normal the search judged by two centres mixed, whose
@@ -139,8 +139,8 @@ void ConfirmMixedNormals(const BasisView& basis, const PixelObservations& as_rea
   std::vector<int> back;
   for (std::size_t i = 0; i < mixed.size(); ++i)
     if (flat.group[i] >= 0 && flat.group[i] != solution->group[mixed[i]]) back.push_back(mixed[i]);
-  report->normals_mixed_regrouped += long(back.size());
-  TakeBackNormals(basis, as_read, model, solve, back, normals, solution);
+  TakeBackNormals(basis, as_read, model, solve, back, normals, solution,
+                  &report->normals_mixed_regrouped);
 }
 
 }  // namespace
