@@ -70,6 +70,10 @@ void InstrumentOptions::Check() const {
       (image_width < 16 || image_height < 16 || image_width > 16384 || image_height > 16384))
     throw UserError(where, "the simulated camera's image must be 16 to 16384 pixels a side");
   if (held_board_poses < 0) throw UserError(where, "a negative number of held board poses");
+  if (pixel_samples < 1 || pixel_samples > kMaxPixelSamples)
+    throw UserError(where,
+                    "the camera's pixel samples per axis must be 1 to " +
+                        std::to_string(kMaxPixelSamples));
   if (relief && !height_map_file.empty())
     throw UserError(where, "both a built-in relief and a height map", "give one of them");
   if (relief) relief->Check();
@@ -96,6 +100,7 @@ Instrument::Instrument(const InstrumentOptions& options) : options_(options) {
     networks_.push_back(NeuralBrdf::Load(path));
   scene_.kind = RenderScene::Kind::kCard;
   scene_.sample_size_mm = options_.sample_size_mm;
+  scene_.pixel_samples = options_.pixel_samples;
   const MixedSample sample = InstrumentSample(options_);
   scene_.card = sample.layout;
   const std::vector<float> heights = InstrumentRelief(options_, scene_.card);

@@ -114,23 +114,34 @@ RadianceImage RenderRadiance(const RenderScene& scene, const calib::CameraModel&
           R *
           camera.Unproject(Eigen::Vector2d(std::min(i * step, w - 1), std::min(j * step, h - 1)));
   RadianceImage out{w, h, std::vector<float>(std::size_t(w) * std::size_t(h) * 3, 0.f)};
+  // The ray through imager point (px, py), pixel centres at integers, bilinear between grid rays.
+  const auto ray_at = [&](double px, double py) -> Eigen::Vector3d {
+    px = std::clamp(px, 0.0, double(w - 1));
+    py = std::clamp(py, 0.0, double(h - 1));
+    const int i = std::min(int(px) / step, gw - 2), j = std::min(int(py) / step, gh - 2);
+    const double fx = (px - i * step) / step, fy = (py - j * step) / step;
+    return (1 - fy) * ((1 - fx) * grid[std::size_t(j) * gw + i] +
+                       fx * grid[std::size_t(j) * gw + i + 1]) +
+           fy * ((1 - fx) * grid[std::size_t(j + 1) * gw + i] +
+                 fx * grid[std::size_t(j + 1) * gw + i + 1]);
+  };
+  const int samples = std::max(scene.pixel_samples, 1);
 #pragma omp parallel for schedule(dynamic, 8)
   for (int y = 0; y < h; ++y) {
-    const int j = std::min(y / step, gh - 2);
-    const double fy = double(y - j * step) / step;
     for (int x = 0; x < w; ++x) {
-      const int i = std::min(x / step, gw - 2);
-      const double fx = double(x - i * step) / step;
-      const Eigen::Vector3d ray = (1 - fy) * ((1 - fx) * grid[std::size_t(j) * gw + i] +
-                                              fx * grid[std::size_t(j) * gw + i + 1]) +
-                                  fy * ((1 - fx) * grid[std::size_t(j + 1) * gw + i] +
-                                        fx * grid[std::size_t(j + 1) * gw + i + 1]);
-      if (ray.z() >= 0) continue;  // never meets the plane below the camera
-      const double t = -eye.z() / ray.z();
-      const Eigen::Vector3d p = eye + t * ray;
-      const std::array<double, 3> L = RadianceAt(scene, p.head<2>(), eye, plane_light);
+      std::array<double, 3> sum{};
+      for (int sy = 0; sy < samples; ++sy)
+        for (int sx = 0; sx < samples; ++sx) {
+          const Eigen::Vector3d ray = ray_at(x + (sx + 0.5) / samples - 0.5,
+                                             y + (sy + 0.5) / samples - 0.5);
+          if (ray.z() >= 0) continue;  // never meets the plane below the camera
+          const double t = -eye.z() / ray.z();
+          const Eigen::Vector3d p = eye + t * ray;
+          const std::array<double, 3> L = RadianceAt(scene, p.head<2>(), eye, plane_light);
+          for (int c = 0; c < 3; ++c) sum[c] += L[c] / (samples * samples);
+        }
       float* o = &out.rgb[3 * (std::size_t(y) * std::size_t(w) + std::size_t(x))];
-      for (int c = 0; c < 3; ++c) o[c] = float(L[c]);
+      for (int c = 0; c < 3; ++c) o[c] = float(sum[c]);
     }
   }
   return out;

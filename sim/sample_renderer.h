@@ -50,6 +50,9 @@ struct RenderScene {
   std::optional<Eigen::AlignedBox2d> chart_cover;
   double chart_cover_albedo = 0.18;
   double background_albedo = 0.02;  // the dark cloth around the sample (Lambertian)
+  // The points per axis at which a camera pixel samples the scene, spread evenly over the pixel
+  // (InstrumentOptions::pixel_samples); 1: the pixel's centre alone.
+  int pixel_samples = 1;
 };
 
 struct PointLight {
@@ -69,7 +72,8 @@ struct RadianceImage {
   std::vector<float> Channel(int channel) const;
 };
 
-// Every pixel's ray (mrcal unprojection, on a grid of `ray_grid_step_px` and interpolated
+// Every pixel's radiance, the mean over scene.pixel_samples^2 points spread evenly over it;
+// every point's ray (mrcal unprojection, on a grid of `ray_grid_step_px` and interpolated
 // between) meets the sample plane; rays that miss the plane see black.
 RadianceImage RenderRadiance(const RenderScene& scene, const calib::CameraModel& camera,
                              const calib::Pose& cam_from_sample, const PointLight& light,

@@ -152,6 +152,32 @@ TEST_CASE("renderer: a Lambertian patch gives the radiance and counts computed b
   CHECK(saturated[0] == 65535);  // 50000 e- clip at the full well
 }
 
+TEST_CASE("renderer: a pixel integrates over its area when asked", "[camera][renderer]") {
+  // The Spectralon 201 mm across under the camera above: its left edge, x = -100.5 mm, lies at
+  // imager x = 159.5 - 100.5 * 400 / 500 = 79.1, inside pixel 79 (78.5 to 79.5), whose centre
+  // sees the cloth. Over 4 x 4 points, two columns of four (79.125, 79.375) see the Spectralon.
+  sim::RenderScene scene = Spectralon();
+  scene.sample_size_mm = 201;
+  const auto render = [&](int samples) {
+    scene.pixel_samples = samples;
+    return sim::RenderRadiance(scene, SmallCamera(), OverheadView().cam_from_sample,
+                               OverheadView().light, 1);
+  };
+  const sim::RadianceImage point = render(1), area = render(4);
+  auto at = [](const sim::RadianceImage& r, int x, int y) {
+    return double(r.rgb[3 * (std::size_t(y) * 320 + x) + 1]);
+  };
+  // Inside the board the radiance is smooth (0.3% a pixel, nearly linear), so a pixel's mean is
+  // its centre's to well under 1e-4.
+  CHECK(at(area, 159, 119) == Approx(at(point, 159, 119)).epsilon(1e-4));
+  // The edge's pixel: its centre sees the cloth (albedo 0.02), its area half cloth and half
+  // board. Its neighbours' values stand for each (they differ from it by 0.3% in geometry);
+  // 2% covers that and the float storage.
+  const double cloth = at(point, 78, 119), board = at(point, 80, 119);
+  CHECK(at(point, 79, 119) == Approx(cloth).epsilon(0.02));
+  CHECK(at(area, 79, 119) == Approx((cloth + board) / 2).epsilon(0.02));
+}
+
 TEST_CASE("camera: Aravis's own arv-tool lists and controls the simulated camera", "[camera]") {
   sim::SimGigECamera sim(Spectralon(), SmallCamera(), OverheadView, {});
   auto run = [](const std::string& command) {

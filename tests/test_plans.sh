@@ -252,6 +252,12 @@ expect "a matrix of 4 numbers" 1 short_matrix.yaml --dry-run -- \
 variant bad_format 's/pixel_format: Mono16/pixel_format: BayerXY16/'
 expect "an unknown pixel format" 1 bad_format.yaml --dry-run -- \
   "bad_format.yaml:12:" "unknown pixel format 'BayerXY16'" "BayerRG16"
+variant no_pixel_samples 's/^sim:$/sim:\n  pixel_samples: 0/'
+expect "no pixel samples" 1 no_pixel_samples.yaml --dry-run -- \
+  "no_pixel_samples.yaml:24:" "sim.pixel_samples is 0, outside 1 to"
+variant many_pixel_samples 's/^sim:$/sim:\n  pixel_samples: 9/'
+expect "too many pixel samples" 1 many_pixel_samples.yaml --dry-run -- \
+  "many_pixel_samples.yaml" "pixel samples per axis must be 1 to 8"
 variant bad_filter 's/^sim:$/sim:\n  camera_filter: RGBG/'
 expect "an unknown simulated filter" 1 bad_filter.yaml --dry-run -- \
   "bad_filter.yaml:" "sim.camera_filter 'RGBG' is not a filter"

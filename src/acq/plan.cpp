@@ -554,7 +554,8 @@ SimSpec ReadSim(const YAML::Node& root, const Section& top, const std::string& b
                 Backend backend, bool colour_chart) {
   const Section sim = top.Child(
       "sim", {"materials", "seed", "light_intensity", "time_scale", "operator", "image_size",
-              "camera_model", "camera_filter", "light_rgb", "sample", "relief", "chart"});
+              "camera_model", "camera_filter", "light_rgb", "sample", "relief", "chart",
+              "pixel_samples"});
   SimSpec s;
   if (backend == Backend::kSim) s.materials = ReadSimMaterials(root, sim, base);
   if (sim.HasMap("sample")) {
@@ -576,6 +577,8 @@ SimSpec ReadSim(const YAML::Node& root, const Section& top, const std::string& b
   s.light_intensity = sim.Number("light_intensity", s.light_intensity);
   s.time_scale = sim.Number("time_scale", s.time_scale);
   s.operator_prompts = sim.Flag("operator", s.operator_prompts);
+  // Its upper limit is the simulated instrument's own (sim::InstrumentOptions::Check).
+  s.pixel_samples = int(sim.Integer("pixel_samples", s.pixel_samples, 1));
   const std::vector<int> image_size = sim.Counts("image_size", 16, 16384);
   if (!image_size.empty()) {
     if (image_size.size() != 2)

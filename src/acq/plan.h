@@ -91,6 +91,9 @@ struct SimSpec {  // sim:
   // instrument does, instead of placing items itself (the prompt path in simulation).
   bool operator_prompts = false;  // sim.operator
   int image_width = 320, image_height = 320;
+  // sim.pixel_samples: N, the camera's pixels integrated over N x N points
+  // (sim::InstrumentOptions::pixel_samples); 1: each pixel's centre.
+  int pixel_samples = 1;
   std::string camera_model;
   // sim.camera_filter: the simulated sensor's Bayer filter ("RGGB", ..., "none"); unset: the
   // filter camera.pixel_format names. sim.light_rgb: the light's colour; unset: warm for a

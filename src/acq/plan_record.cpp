@@ -175,6 +175,9 @@ std::vector<PlanSetting> PlanSettings(const Plan& plan) {
     if (filter != Cfa::kNone) s.Capture("sim.camera_filter", CfaName(filter));
     if (const auto& rgb = plan.sim.light_rgb)
       s.Capture("sim.light_rgb", Numbers({rgb->x(), rgb->y(), rgb->z()}));
+    // So are the camera's pixel samples (recorded where not 1, as the sessions before it were).
+    if (plan.sim.pixel_samples != 1)
+      s.Capture("sim.pixel_samples", std::to_string(plan.sim.pixel_samples));
     if (const auto& relief = plan.sim.relief) {
       if (!relief->height_map.empty())
         s.Capture("sim.relief.height_map", FileValue(relief->height_map));

@@ -20,6 +20,7 @@ sim::InstrumentOptions InstrumentOptionsOf(const Plan& plan) {
   o.camera_model_file = plan.sim.camera_model;
   o.image_width = plan.sim.image_width;
   o.image_height = plan.sim.image_height;
+  o.pixel_samples = plan.sim.pixel_samples;
   o.camera_filter = plan.sim.camera_filter.value_or(CfaOf(plan.camera.settings.pixel_format));
   o.light_rgb = plan.sim.light_rgb;
   if (const auto& c = plan.sim.chart.covered_mm)
