@@ -71,9 +71,8 @@ void InstrumentOptions::Check() const {
     throw UserError(where, "the simulated camera's image must be 16 to 16384 pixels a side");
   if (held_board_poses < 0) throw UserError(where, "a negative number of held board poses");
   if (pixel_samples < 1 || pixel_samples > kMaxPixelSamples)
-    throw UserError(where,
-                    "the camera's pixel samples per axis must be 1 to " +
-                        std::to_string(kMaxPixelSamples));
+    throw UserError(where, "the camera's pixel samples per axis must be 1 to " +
+                               std::to_string(kMaxPixelSamples));
   if (relief && !height_map_file.empty())
     throw UserError(where, "both a built-in relief and a height map", "give one of them");
   if (relief) relief->Check();

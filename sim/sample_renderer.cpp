@@ -120,8 +120,8 @@ RadianceImage RenderRadiance(const RenderScene& scene, const calib::CameraModel&
     py = std::clamp(py, 0.0, double(h - 1));
     const int i = std::min(int(px) / step, gw - 2), j = std::min(int(py) / step, gh - 2);
     const double fx = (px - i * step) / step, fy = (py - j * step) / step;
-    return (1 - fy) * ((1 - fx) * grid[std::size_t(j) * gw + i] +
-                       fx * grid[std::size_t(j) * gw + i + 1]) +
+    return (1 - fy) *
+               ((1 - fx) * grid[std::size_t(j) * gw + i] + fx * grid[std::size_t(j) * gw + i + 1]) +
            fy * ((1 - fx) * grid[std::size_t(j + 1) * gw + i] +
                  fx * grid[std::size_t(j + 1) * gw + i + 1]);
   };
@@ -132,8 +132,8 @@ RadianceImage RenderRadiance(const RenderScene& scene, const calib::CameraModel&
       std::array<double, 3> sum{};
       for (int sy = 0; sy < samples; ++sy)
         for (int sx = 0; sx < samples; ++sx) {
-          const Eigen::Vector3d ray = ray_at(x + (sx + 0.5) / samples - 0.5,
-                                             y + (sy + 0.5) / samples - 0.5);
+          const Eigen::Vector3d ray =
+              ray_at(x + (sx + 0.5) / samples - 0.5, y + (sy + 0.5) / samples - 0.5);
           if (ray.z() >= 0) continue;  // never meets the plane below the camera
           const double t = -eye.z() / ray.z();
           const Eigen::Vector3d p = eye + t * ray;

@@ -552,10 +552,9 @@ SimSpec::Chart ReadSimChart(const Section& chart) {
 
 SimSpec ReadSim(const YAML::Node& root, const Section& top, const std::string& base,
                 Backend backend, bool colour_chart) {
-  const Section sim = top.Child(
-      "sim", {"materials", "seed", "light_intensity", "time_scale", "operator", "image_size",
-              "camera_model", "camera_filter", "light_rgb", "sample", "relief", "chart",
-              "pixel_samples"});
+  const Section sim = top.Child("sim", {"materials", "seed", "light_intensity", "time_scale",
+                                        "operator", "image_size", "camera_model", "camera_filter",
+                                        "light_rgb", "sample", "relief", "chart", "pixel_samples"});
   SimSpec s;
   if (backend == Backend::kSim) s.materials = ReadSimMaterials(root, sim, base);
   if (sim.HasMap("sample")) {
