@@ -57,9 +57,9 @@ struct InstrumentOptions {
   ChartTurn chart_turn = ChartTurn::kNone;  // laid turned from its layout
   // The camera's pixels integrate the radiance over this many points per axis, spread evenly
   // over each (1: a pixel is its centre's point). A real sensor integrates over its pixel; at
-  // one point a pixel straddling a relief's facets sees one of them, and a mirror-like ink's
-  // highlight lands in a pixel or not by where its centre falls (docs/reconstruction.md, "The
-  // files sample's view 8"). Every frame changes with it; the render's time grows as its square.
+  // one point a pixel straddling a relief's facets sees one of them, integrated their mean (what
+  // that changes for the normals: docs/reconstruction.md, "The files sample's view 8"). Every
+  // frame changes with it; the render's time grows as its square.
   int pixel_samples = 1;
   static constexpr int kMaxPixelSamples = 8;
   // Or the relief from a height map (ReadHeightMap; heights in the sample layout's cells: a file
