@@ -416,7 +416,8 @@ std::string TruthText(const SessionReport& s) {
   for (const SessionReport::ValidationTruth& v : s.validation_truth) {
     std::snprintf(line, sizeof line,
                   "  validation %s: the truth against the capture: relative RMS %.3f, median "
-                  "CIEDE2000 %.2f (the capture's noise); the map against the truth: %.3f, %.2f\n",
+                  "CIEDE2000 %.2f (the capture's noise and registration); the map against the "
+                  "truth: %.3f, %.2f\n",
                   v.name.c_str(), v.capture_relative_rms, v.capture_delta_e2000, v.map_relative_rms,
                   v.map_delta_e2000);
     t << line;
