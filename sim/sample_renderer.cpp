@@ -126,6 +126,7 @@ RadianceImage RenderRadiance(const RenderScene& scene, const calib::CameraModel&
                  fx * grid[std::size_t(j + 1) * gw + i + 1]);
   };
   const int samples = std::max(scene.pixel_samples, 1);
+  const double weight = 1.0 / (samples * samples);  // each point's share of its pixel
 #pragma omp parallel for schedule(dynamic, 8)
   for (int y = 0; y < h; ++y) {
     for (int x = 0; x < w; ++x) {
@@ -138,7 +139,7 @@ RadianceImage RenderRadiance(const RenderScene& scene, const calib::CameraModel&
           const double t = -eye.z() / ray.z();
           const Eigen::Vector3d p = eye + t * ray;
           const std::array<double, 3> L = RadianceAt(scene, p.head<2>(), eye, plane_light);
-          for (int c = 0; c < 3; ++c) sum[c] += L[c] / (samples * samples);
+          for (int c = 0; c < 3; ++c) sum[c] += L[c] * weight;
         }
       float* o = &out.rgb[3 * (std::size_t(y) * std::size_t(w) + std::size_t(x))];
       for (int c = 0; c < 3; ++c) o[c] = float(sum[c]);

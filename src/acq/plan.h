@@ -143,8 +143,8 @@ struct ReconstructionSpec {  // reconstruction:
   bool normals_view_weights = kDefaultNormalsViewWeights;     // NormalSearchOptions::view_weights
   double normals_min_tilt_deg = kDefaultNormalsMinTiltDeg;    // NormalSearchOptions::min_tilt_deg
   bool normals_same_centre = kDefaultNormalsSameCentre;       // NormalSearchOptions::same_centre
-  bool normals_mixed_same_group =
-      kDefaultNormalsMixedSameGroup;  // NormalSearchOptions::mixed_same_group
+  // NormalSearchOptions::mixed_same_group
+  bool normals_mixed_same_group = kDefaultNormalsMixedSameGroup;
   // NormalSearchOptions::confirmation (reconstruction.normals_confirm)
   NormalConfirmation normals_confirmation = kDefaultNormalsConfirmation;
   void Check() const;

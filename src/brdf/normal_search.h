@@ -89,9 +89,9 @@ inline constexpr double kDefaultNormalsMinTiltDeg = 0.75;  // NormalSearchOption
 inline constexpr NormalConfirmation kDefaultNormalsConfirmation = NormalConfirmation::kAlone;
 // Through acqd on eleven captures (docs/reconstruction.md, "A mixed pixel's tilt keeps its
 // group"): the validation views worse by relative RMS than with the search off from 12 of 33
-// to 8, the relief's normals from 0.86-1.48 to 0.87-1.51 degrees.
-inline constexpr bool kDefaultNormalsMixedSameGroup =
-    true;  // NormalSearchOptions::mixed_same_group
+// to 8, the relief's normals from 0.86-1.48 to 0.87-1.51 degrees. NormalSearchOptions::
+// mixed_same_group.
+inline constexpr bool kDefaultNormalsMixedSameGroup = true;
 // The same eleven captures with mixed_same_group (docs/reconstruction.md, "A tilt keeps the
 // centre that judges the pixel flat"): the views worse from 8 of 33 to 2, the relief's normals
 // from 0.87-1.51 to 0.88-1.55 degrees.
