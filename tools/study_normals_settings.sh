@@ -19,7 +19,8 @@ mkdir -p "$out"
 csv=$out/normals_settings.csv
 # view1-3: relative RMS; median1-3: median per-pixel relative error; worst1-3: the share of the
 # view's squared error from its worst pixel (one pixel can carry a view: docs/reconstruction.md);
-# truth1-3: the map's render against the true materials' (the capture's own noise left out);
+# truth1-3: the map's render against the true materials' (the capture's noise and registration
+# left out);
 # floor1-3: the true materials' render against the capture (what no model of the sample removes).
 echo "session,variant,search,relief_deg,flat_deg,map_log_rmse,view1,view2,view3,refused,median_uncertainty_deg,relief_certain_deg,relief_uncertain_deg,median1,median2,median3,worst1,worst2,worst3,truth1,truth2,truth3,floor1,floor2,floor3" > "$csv"
 run() {  # session, variant's name, search (on | off), then acq session process options...
