@@ -1,6 +1,7 @@
 #include "acq/validation.h"
 
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 #include "brdf/evaluation.h"
@@ -21,6 +22,12 @@ ValidationData CaptureOfView(const SvbrdfMap& map, SessionView view) {
   ValidationData data;
   data.name = view.name;
   const int w = map.info.width, h = map.info.height;
+  // Copied before the view moves into the source, which checks the planes' sizes.
+  const auto position_plane = [&view](const char* name) {
+    const auto plane = view.correspondence.planes.find(name);
+    return plane == view.correspondence.planes.end() ? std::vector<float>{} : plane->second;
+  };
+  const std::vector<float> view_x = position_plane("x"), view_y = position_plane("y");
   std::vector<SessionView> one;
   one.push_back(std::move(view));
   CorrespondenceSource source(std::move(one), map.info.pixel_size_mm);
@@ -40,6 +47,8 @@ ValidationData CaptureOfView(const SvbrdfMap& map, SessionView view) {
   data.light.assign(pixels * 3, 0.0f);
   data.camera.assign(pixels * 3, 0.0f);
   data.compared.assign(pixels, 0);
+  data.positions.x.assign(pixels, std::numeric_limits<float>::quiet_NaN());
+  data.positions.y.assign(pixels, std::numeric_limits<float>::quiet_NaN());
   for (std::size_t p = 0; p < pixels; ++p) {
     const std::size_t o = obs.At(int(p), 0);
     const float* rgb = &obs.rgb[3 * o];
@@ -54,6 +63,8 @@ ValidationData CaptureOfView(const SvbrdfMap& map, SessionView view) {
       data.camera[3 * p + ch] = obs.camera[o][ch];
     }
     data.compared[p] = 1;
+    data.positions.x[p] = view_x[p];
+    data.positions.y[p] = view_y[p];
   }
   return data;
 }
@@ -79,6 +90,9 @@ ValidationResult Compare(const ValidationData& data, const PixelBrdf& brdf) {
         result.captured.rgb[3 * p + ch] = data.captured[3 * p + ch];
       }
     }
+  if (!data.positions.empty())
+    result.predicted.rgb =
+        SampleAsCaptured(w, h, data.positions, result.predicted.rgb, data.compared);
   double diff2 = 0, ref2 = 0, worst2 = 0;
   std::vector<double> relative, delta_e;
   constexpr double kPi = 3.14159265358979323846;
@@ -140,6 +154,7 @@ constexpr const char* kValidationPlanes[3][3] = {{"captured.R", "captured.G", "c
                                                  {"light.x", "light.y", "light.z"},
                                                  {"camera.x", "camera.y", "camera.z"}};
 constexpr const char* kPredictedPlanes[3] = {"predicted.R", "predicted.G", "predicted.B"};
+constexpr const char* kPositionPlanes[2] = {"view.x", "view.y"};
 
 }  // namespace
 
@@ -158,6 +173,10 @@ void WriteValidationData(const ValidationData& data, const std::string& path,
     }
   std::vector<float>& compared = f.planes["compared"];
   compared.assign(data.compared.begin(), data.compared.end());
+  if (!data.positions.empty()) {
+    f.planes[kPositionPlanes[0]] = data.positions.x;
+    f.planes[kPositionPlanes[1]] = data.positions.y;
+  }
   if (predicted && predicted->rgb.size() == 3 * pixels)
     for (int c = 0; c < 3; ++c) {
       std::vector<float>& plane = f.planes[kPredictedPlanes[c]];
@@ -190,6 +209,9 @@ ValidationData ReadValidationData(const std::string& path) {
   const std::vector<float>& compared = f.Plane("compared", path);
   data.compared.resize(pixels);
   for (std::size_t p = 0; p < pixels; ++p) data.compared[p] = compared[p] > 0.5f;
+  // Data kept before the positions were are compared at the pixels' own points.
+  if (f.planes.count(kPositionPlanes[0]) && f.planes.count(kPositionPlanes[1]))
+    data.positions = {f.Plane(kPositionPlanes[0], path), f.Plane(kPositionPlanes[1], path)};
   return data;
 }
 

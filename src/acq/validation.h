@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "acq/capture_sampling.h"
 #include "acq/correspondence_source.h"
 #include "acq/map_render.h"
 #include "brdf/basis_rows.h"
@@ -46,6 +47,9 @@ struct ValidationData {
   std::vector<float> captured;         // 3 a pixel
   std::vector<float> light, camera;    // unit vectors, 3 a pixel
   std::vector<std::uint8_t> compared;  // 1: valid in the map and all three channels usable
+  // Where the capture was read in the view's image: a model's prediction is compared sampled
+  // the same way (capture_sampling.h). Empty: at the pixels' own points.
+  CapturePositions positions;
 };
 
 // A model's BRDF (1/sr, R G B) at reference pixel (x, y) for directions in the sample frame.
@@ -55,6 +59,8 @@ PixelBrdf MapPixelBrdf(const SvbrdfMap& map, const BasisView& basis, RowLookup l
 
 // Throws UserError when the view's maps do not match the map's size.
 ValidationData CaptureOfView(const SvbrdfMap& map, SessionView view);
+// The model's prediction at each compared pixel's own point and directions, sampled as the
+// capture was where the data say how (`positions`), against the capture.
 ValidationResult Compare(const ValidationData& data, const PixelBrdf& brdf);
 // The relative RMS of a comparison over the compared pixels of each label (labels[pixel] in
 // [0, count), row-major; negative: none), e.g. per true material in simulation; 0 for a label
@@ -64,11 +70,11 @@ std::vector<double> RelativeRmsByLabel(const ValidationResult& result,
 ValidationResult CompareWithCapture(const SvbrdfMap& map, const BasisView& basis, SessionView view,
                                     RowLookup lookup);
 
-// The planes captured.{R,G,B}, light.{x,y,z}, camera.{x,y,z} and compared; the name as an
-// attribute. Reading names the file and what is missing when it is not such a file.
-// With `predicted` (a comparison's, the same size), the model's prediction goes beside the
-// capture as predicted.R/G/B (0 where not compared): a reader can find the pixels a view's error
-// comes from. Reading ignores it.
+// The planes captured.{R,G,B}, light.{x,y,z}, camera.{x,y,z}, compared and, where known, the
+// capture's positions view.{x,y}; the name as an attribute. Reading names the file and what is
+// missing when it is not such a file. With `predicted` (a comparison's, the same size), the model's
+// prediction goes beside the capture as predicted.R/G/B (0 where not compared): a reader can find
+// the pixels a view's error comes from. Reading ignores it.
 void WriteValidationData(const ValidationData& data, const std::string& path,
                          const RgbImage* predicted = nullptr);
 ValidationData ReadValidationData(const std::string& path);

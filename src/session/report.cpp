@@ -344,6 +344,10 @@ std::string ResultText(const ProcessReport& p) {
   } else if (p.rec709_from_camera) {
     t << "colour matrix: given in the plan (camera.colour_matrix)\n";
   }
+  if (!p.validation.empty())
+    t << "validation views: the map's render read where the capture was read (each view pixel "
+         "at its own point; docs/reconstruction.md, \"A prediction sampled as the capture "
+         "was\")\n";
   for (const ValidationSummary& v : p.validation) {
     std::snprintf(line, sizeof line,
                   "validation %s: relative RMS error %.3f, median per pixel %.3f, median "
@@ -416,7 +420,7 @@ std::string TruthText(const SessionReport& s) {
   for (const SessionReport::ValidationTruth& v : s.validation_truth) {
     std::snprintf(line, sizeof line,
                   "  validation %s: the truth against the capture: relative RMS %.3f, median "
-                  "CIEDE2000 %.2f (the capture's noise and registration); the map against the "
+                  "CIEDE2000 %.2f (the capture's noise and sampling); the map against the "
                   "truth: %.3f, %.2f\n",
                   v.name.c_str(), v.capture_relative_rms, v.capture_delta_e2000, v.map_relative_rms,
                   v.map_delta_e2000);

@@ -56,10 +56,11 @@ struct SessionReport {
   // (degrees): why the view directions come from the camera's arm (process.h).
   double board_eye_error_median_deg = 0, board_eye_error_max_deg = 0;
   // Each validation view against the truth (truth_score.h): the true materials rendered at every
-  // pixel's own directions against the capture (the capture's noise, and its registration, which
-  // at a mirror-like ink's pixel-wide highlights is most of it: a floor no model can go under;
+  // pixel's own directions, sampled as the capture was (acq/capture_sampling.h), against the
+  // capture (the capture's noise and what its pixels saw between the map's, which at a
+  // mirror-like ink's pixel-wide highlights is most of it: a floor no model can go under;
   // docs/reconstruction.md, "The files sample's view 8"), and the map's render against that
-  // truth render (the map's error without it).
+  // truth render, both at the pixels' own points (the map's error without the capture's).
   struct ValidationTruth {
     std::string name;
     double capture_delta_e2000 = 0, capture_relative_rms = 0;  // truth vs capture

@@ -185,8 +185,11 @@ void ScoreValidationAgainstTruth(const Plan& plan, const std::string& dir, const
     if (!std::filesystem::is_regular_file(kept)) continue;  // a session from before they were kept
     const ValidationData captured = ReadValidationData(kept);
     const ValidationResult floor = Compare(captured, truth);
-    ValidationData true_view = captured;  // the truth's render in the capture's place
-    true_view.captured = floor.predicted.rgb;
+    // The truth's render in the capture's place, at the pixels' own points: the map against it
+    // leaves the capture out, its sampling too (acq/capture_sampling.h).
+    ValidationData true_view = captured;
+    true_view.positions = {};
+    true_view.captured = Compare(true_view, truth).predicted.rgb;
     const ValidationResult map_error =
         Compare(true_view, MapPixelBrdf(map, basis, plan.reconstruction.lookup));
     report->validation_truth.push_back({v.name, floor.median_delta_e2000, floor.relative_rms,
