@@ -209,7 +209,7 @@ ValidationData ReadValidationData(const std::string& path) {
   const std::vector<float>& compared = f.Plane("compared", path);
   data.compared.resize(pixels);
   for (std::size_t p = 0; p < pixels; ++p) data.compared[p] = compared[p] > 0.5f;
-  // Data kept before the positions were are compared at the pixels' own points.
+  // Data kept before the positions were kept are compared at the pixels' own points.
   if (f.planes.count(kPositionPlanes[0]) && f.planes.count(kPositionPlanes[1]))
     data.positions = {f.Plane(kPositionPlanes[0], path), f.Plane(kPositionPlanes[1], path)};
   return data;
