@@ -17,6 +17,23 @@ struct Grid {
   bool Inside(int x, int y) const { return x >= 0 && y >= 0 && x < width && y < height; }
 };
 
+struct Corner {
+  int x, y;
+  double weight;
+};
+
+// The four grid points around point (u, v) and their bilinear weights: the rule the capture is
+// read by (correspondence_source.cpp, Sample; a pixel's centre at integer coordinates).
+std::array<Corner, 4> BilinearCorners(double u, double v) {
+  const int x0 = int(std::floor(u)), y0 = int(std::floor(v));
+  std::array<Corner, 4> corners;
+  for (int k = 0; k < 4; ++k) {
+    const int x = x0 + k % 2, y = y0 + k / 2;
+    corners[std::size_t(k)] = {x, y, (1 - std::abs(u - x)) * (1 - std::abs(v - y))};
+  }
+  return corners;
+}
+
 // The view position of reference pixel (x, y), if known.
 std::optional<Eigen::Vector2d> PositionAt(const Grid& g, const CapturePositions& p, int x, int y) {
   if (!g.Inside(x, y)) return std::nullopt;
@@ -44,18 +61,14 @@ std::optional<std::array<double, 3>> Bilinear(const Grid& g, const std::vector<f
                                               const std::vector<std::uint8_t>& known, double u,
                                               double v) {
   if (!(u >= 0 && v >= 0 && u <= g.width - 1 && v <= g.height - 1)) return std::nullopt;
-  const int x0 = int(std::floor(u)), y0 = int(std::floor(v));
   std::array<double, 3> sum{};
   double weight = 0;
-  for (int b = 0; b < 2; ++b)
-    for (int a = 0; a < 2; ++a) {
-      const int x = x0 + a, y = y0 + b;
-      const double w = (1 - std::abs(u - x)) * (1 - std::abs(v - y));
-      if (w <= 0 || !g.Inside(x, y) || !known[g.At(x, y)]) continue;
-      for (int c = 0; c < 3; ++c)
-        sum[std::size_t(c)] += w * values[3 * g.At(x, y) + std::size_t(c)];
-      weight += w;
-    }
+  for (const Corner& k : BilinearCorners(u, v)) {
+    if (k.weight <= 0 || !g.Inside(k.x, k.y) || !known[g.At(k.x, k.y)]) continue;
+    for (int c = 0; c < 3; ++c)
+      sum[std::size_t(c)] += k.weight * values[3 * g.At(k.x, k.y) + std::size_t(c)];
+    weight += k.weight;
+  }
   // A point whose only known neighbour weighs next to nothing is not predicted from it.
   constexpr double kMinWeight = 1e-3;
   if (weight < kMinWeight) return std::nullopt;
@@ -77,20 +90,16 @@ std::optional<std::array<double, 3>> AsCaptured(const Grid& g, const CapturePosi
   constexpr double kMinDeterminant = 1e-6;  // view pixels per reference pixel, squared
   if (!(std::abs(jacobian.determinant()) > kMinDeterminant)) return std::nullopt;
   const Eigen::Matrix2d reference_from_view = jacobian.inverse();
-  const double x0 = std::floor(at->x()), y0 = std::floor(at->y());
   std::array<double, 3> sum{};
-  for (int b = 0; b < 2; ++b)
-    for (int a = 0; a < 2; ++a) {
-      const Eigen::Vector2d view_pixel(x0 + a, y0 + b);
-      const double w =
-          (1 - std::abs(at->x() - view_pixel.x())) * (1 - std::abs(at->y() - view_pixel.y()));
-      if (w <= 0) continue;
-      const Eigen::Vector2d point =
-          Eigen::Vector2d(x, y) + reference_from_view * (view_pixel - *at);
-      const auto value = Bilinear(g, values, known, point.x(), point.y());
-      if (!value) return std::nullopt;
-      for (int c = 0; c < 3; ++c) sum[std::size_t(c)] += w * (*value)[std::size_t(c)];
-    }
+  for (const Corner& view_pixel : BilinearCorners(at->x(), at->y())) {
+    if (view_pixel.weight <= 0) continue;
+    const Eigen::Vector2d point =
+        Eigen::Vector2d(x, y) +
+        reference_from_view * (Eigen::Vector2d(view_pixel.x, view_pixel.y) - *at);
+    const auto value = Bilinear(g, values, known, point.x(), point.y());
+    if (!value) return std::nullopt;
+    for (int c = 0; c < 3; ++c) sum[std::size_t(c)] += view_pixel.weight * (*value)[std::size_t(c)];
+  }
   return sum;
 }
 

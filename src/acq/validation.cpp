@@ -23,11 +23,8 @@ ValidationData CaptureOfView(const SvbrdfMap& map, SessionView view) {
   data.name = view.name;
   const int w = map.info.width, h = map.info.height;
   // Copied before the view moves into the source, which checks the planes' sizes.
-  const auto position_plane = [&view](const char* name) {
-    const auto plane = view.correspondence.planes.find(name);
-    return plane == view.correspondence.planes.end() ? std::vector<float>{} : plane->second;
-  };
-  const std::vector<float> view_x = position_plane("x"), view_y = position_plane("y");
+  const std::vector<float> view_x = view.correspondence.Plane("x", view.name),
+                           view_y = view.correspondence.Plane("y", view.name);
   std::vector<SessionView> one;
   one.push_back(std::move(view));
   CorrespondenceSource source(std::move(one), map.info.pixel_size_mm);
@@ -69,13 +66,9 @@ ValidationData CaptureOfView(const SvbrdfMap& map, SessionView view) {
   return data;
 }
 
-ValidationResult Compare(const ValidationData& data, const PixelBrdf& brdf) {
-  ValidationResult result;
-  result.name = data.name;
+RgbImage PredictAtPixels(const ValidationData& data, const PixelBrdf& brdf) {
   const int w = data.width, h = data.height;
-  const std::size_t pixels = std::size_t(w) * std::size_t(h);
-  result.predicted = {w, h, std::vector<float>(pixels * 3, 0.0f)};
-  result.captured = result.predicted;
+  RgbImage predicted{w, h, std::vector<float>(std::size_t(w) * std::size_t(h) * 3, 0.0f)};
 #pragma omp parallel for schedule(dynamic, 4)
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x) {
@@ -85,14 +78,29 @@ ValidationResult Compare(const ValidationData& data, const PixelBrdf& brdf) {
       const Eigen::Vector3d out(data.camera[3 * p], data.camera[3 * p + 1], data.camera[3 * p + 2]);
       const auto rho = brdf(x, y, in, out);
       const double cos_in = std::max(in.z(), 0.0);
-      for (int ch = 0; ch < 3; ++ch) {
-        result.predicted.rgb[3 * p + ch] = float(rho[ch] * cos_in);
-        result.captured.rgb[3 * p + ch] = data.captured[3 * p + ch];
-      }
+      for (int ch = 0; ch < 3; ++ch) predicted.rgb[3 * p + ch] = float(rho[ch] * cos_in);
     }
+  return predicted;
+}
+
+ValidationResult Compare(const ValidationData& data, const PixelBrdf& brdf) {
+  return Compare(data, PredictAtPixels(data, brdf));
+}
+
+ValidationResult Compare(const ValidationData& data, const RgbImage& at_pixels) {
+  const int w = data.width, h = data.height;
+  const std::size_t pixels = std::size_t(w) * std::size_t(h);
+  if (at_pixels.rgb.size() != 3 * pixels)
+    throw std::invalid_argument("Compare: a prediction of another size than the view's data");
+  ValidationResult result;
+  result.name = data.name;
+  result.predicted = at_pixels;
   if (!data.positions.empty())
-    result.predicted.rgb =
-        SampleAsCaptured(w, h, data.positions, result.predicted.rgb, data.compared);
+    result.predicted.rgb = SampleAsCaptured(w, h, data.positions, at_pixels.rgb, data.compared);
+  result.captured = {w, h, std::vector<float>(pixels * 3, 0.0f)};
+  for (std::size_t p = 0; p < pixels; ++p)
+    if (data.compared[p])
+      for (int ch = 0; ch < 3; ++ch) result.captured.rgb[3 * p + ch] = data.captured[3 * p + ch];
   double diff2 = 0, ref2 = 0, worst2 = 0;
   std::vector<double> relative, delta_e;
   constexpr double kPi = 3.14159265358979323846;

@@ -59,8 +59,13 @@ PixelBrdf MapPixelBrdf(const SvbrdfMap& map, const BasisView& basis, RowLookup l
 
 // Throws UserError when the view's maps do not match the map's size.
 ValidationData CaptureOfView(const SvbrdfMap& map, SessionView view);
-// The model's prediction at each compared pixel's own point and directions, sampled as the
-// capture was where the data say how (`positions`), against the capture.
+// The model's prediction (rho cos(theta_i)) at each compared pixel's own point and directions;
+// 0 where not compared.
+RgbImage PredictAtPixels(const ValidationData& data, const PixelBrdf& brdf);
+// A prediction at the pixels' own points, sampled as the capture was where the data say how
+// (`positions`), against the capture. Throws std::invalid_argument when the sizes disagree.
+ValidationResult Compare(const ValidationData& data, const RgbImage& at_pixels);
+// The same for a model's BRDF: Compare(data, PredictAtPixels(data, brdf)).
 ValidationResult Compare(const ValidationData& data, const PixelBrdf& brdf);
 // The relative RMS of a comparison over the compared pixels of each label (labels[pixel] in
 // [0, count), row-major; negative: none), e.g. per true material in simulation; 0 for a label

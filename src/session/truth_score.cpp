@@ -184,12 +184,13 @@ void ScoreValidationAgainstTruth(const Plan& plan, const std::string& dir, const
         dir + "/" + render.parent_path().string() + "/" + render.stem().string() + ".exr";
     if (!std::filesystem::is_regular_file(kept)) continue;  // a session from before they were kept
     const ValidationData captured = ReadValidationData(kept);
-    const ValidationResult floor = Compare(captured, truth);
+    const RgbImage truth_render = PredictAtPixels(captured, truth);
+    const ValidationResult floor = Compare(captured, truth_render);
     // The truth's render in the capture's place, at the pixels' own points: the map against it
     // leaves the capture out, its sampling too (acq/capture_sampling.h).
     ValidationData true_view = captured;
     true_view.positions = {};
-    true_view.captured = Compare(true_view, truth).predicted.rgb;
+    true_view.captured = truth_render.rgb;
     const ValidationResult map_error =
         Compare(true_view, MapPixelBrdf(map, basis, plan.reconstruction.lookup));
     report->validation_truth.push_back({v.name, floor.median_delta_e2000, floor.relative_rms,
