@@ -4,6 +4,7 @@
 // accepted with every setting finite and in its physical range. No other exception, no hang.
 // Then the plan's record in a session: a capture setting changed is refused with the difference
 // named, a processing setting changed is allowed and recorded.
+#include <algorithm>
 #include <catch2/catch.hpp>
 
 #include <chrono>
@@ -17,6 +18,7 @@
 #include "acq/plan_checks.h"
 #include "acq/plan_record.h"
 #include "core/error.h"
+#include "core/pixel_footprint.h"
 #include "io/session_catalog.h"
 #include "test_helpers.h"
 
@@ -270,4 +272,50 @@ TEST_CASE("plan record: a capture setting changed is refused, a processing one r
   CHECK(processing.processing_changes[1] == "reconstruction.k: 20 -> 10");
   CHECK(catalog.Events().back().second ==
         "plan changed for processing: reconstruction.k: 20 -> 10");
+}
+
+TEST_CASE("plan record: the camera's pixel spread is that of the camera that took the frames",
+          "[plan]") {
+  const test::TempDir tmp;
+  const std::string basis = tmp / "basis.acqb";
+  std::ofstream(basis) << "a basis";
+  const auto plan_with = [&](const std::string& sim_lines, const std::string& name) {
+    std::string text = GoodPlan(basis);
+    text.replace(text.find("  seed: 3\n"), 10, "  seed: 3\n" + sim_lines);
+    const std::string p = tmp / name;
+    std::ofstream(p) << text;
+    return LoadPlan(p);
+  };
+  // The simulator's camera reads each pixel's centre unless told to integrate.
+  const Plan point = plan_with("", "point.yaml");
+  CHECK(CameraPixelSpreadPx(point) == 0);
+  const Plan area = plan_with("  pixel_samples: 4\n", "area.yaml");
+  CHECK(CameraPixelSpreadPx(area) == Approx(std::sqrt(15.0 / 12) / 4));  // 0.2795
+  // Many points approach the whole pixel's box, a real sensor's.
+  CHECK(PixelSamplesSpreadPx(100) == Approx(kWholePixelSpreadPx).epsilon(1e-4));
+  Plan real = point;
+  real.backend = Backend::kUsbAravis;
+  CHECK(CameraPixelSpreadPx(real) == kWholePixelSpreadPx);
+  // A replay's frames are those of the session it replays: its recorded camera's.
+  const std::string session = tmp / "session";
+  SessionCatalog catalog(session);
+  RecordOrCheckPlan(area, session, catalog);
+  Plan replay = point;
+  replay.backend = Backend::kReplay;
+  replay.replay_session = session;
+  CHECK(CameraPixelSpreadPx(replay) == CameraPixelSpreadPx(area));
+  replay.replay_session = tmp / "recorded-before-plans";  // no record: taken as a real camera's
+  CHECK(CameraPixelSpreadPx(replay) == kWholePixelSpreadPx);
+  // Turning the renders' footprint off is a processing setting, recorded.
+  CHECK(point.reconstruction.pixel_footprint);  // on unless turned off
+  std::string text = GoodPlan(basis);
+  text.replace(text.find("  row_tile: 1\n"), 14, "  row_tile: 1\n  pixel_footprint: false\n");
+  std::ofstream(tmp / "footprint-off.yaml") << text;
+  const Plan footprint_off = LoadPlan(tmp / "footprint-off.yaml");
+  CHECK_FALSE(footprint_off.reconstruction.pixel_footprint);
+  const std::vector<PlanSetting> settings = PlanSettings(footprint_off);
+  CHECK(std::any_of(settings.begin(), settings.end(), [](const PlanSetting& s) {
+    return s.key == "reconstruction.pixel_footprint" && s.value == "false" &&
+           s.kind == PlanSetting::Kind::kProcessing;
+  }));
 }

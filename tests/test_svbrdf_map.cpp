@@ -23,6 +23,7 @@ TEST_CASE("SVBRDF map: written band by band, read back identical, with its metad
   info.basis_crc32 = 0xdeadbeef;
   info.camera_model = "ref.cameramodel";
   info.pixel_size_mm = 0.25;
+  info.pixel_spread_px = 0.28;
   info.source = "test";
   const std::vector<std::string> names = SvbrdfChannelNames(3);
   REQUIRE(names.size() == 20);
@@ -57,6 +58,7 @@ TEST_CASE("SVBRDF map: written band by band, read back identical, with its metad
   CHECK(map.info.basis_crc32 == 0xdeadbeef);
   CHECK(map.info.camera_model == "ref.cameramodel");
   CHECK(map.info.pixel_size_mm == 0.25);
+  CHECK(map.info.pixel_spread_px == 0.28);
   CHECK(map.Coefficients(3, 4, 1) ==
         std::vector<float>{value(3, 3, 4), value(4, 3, 4), value(5, 3, 4)});
   CHECK(map.Plane("valid", 6, 1) == value(9, 6, 1));
@@ -115,6 +117,7 @@ TEST_CASE("a synthetic map written before the row rule is read with its rows tur
   write(dir / "session.exr", "calibration/camera.cameramodel");
   const SvbrdfMap synthetic = ReadSvbrdfMap(dir / "synthetic.exr");
   CHECK(synthetic.info.rows_to_minus_y);
+  CHECK(synthetic.info.pixel_spread_px == 0);   // no acqPixelSpreadPx: point sampling
   CHECK(synthetic.Plane("valid", 1, 0) == 10);  // the old last row is the first now
   CHECK(synthetic.Plane("normal.y", 2, 3) == 2);
   CHECK(synthetic.Coefficients(0, 1, 0) == std::vector<float>{6});

@@ -46,18 +46,74 @@ std::vector<float> PixelCoefficients(const SvbrdfMap& map, int x, int y) {
   return all;
 }
 
+namespace {
+
+// The slope (n.x / n.z, n.y / n.z) of the normal the map renders pixel (x, y) with (the sample's
+// unless estimated); pixels past the map's edge take the edge's.
+Eigen::Vector2f RenderedSlope(const SvbrdfMap& map, int x, int y) {
+  x = std::clamp(x, 0, map.info.width - 1);
+  y = std::clamp(y, 0, map.info.height - 1);
+  if (map.Plane("normal_status", x, y) != float(NormalStatus::kEstimated)) return {0, 0};
+  const float nz = map.Plane("normal.z", x, y);
+  return {map.Plane("normal.x", x, y) / nz, map.Plane("normal.y", x, y) / nz};
+}
+
+// A camera pixel's spread as a box of the same variance: half-width sqrt(3) x spread (for a
+// whole pixel, its edges), read at the midpoints of equal parts along each axis. The parts
+// follow how far the normal turns across the box, at most kTurnPerPartDeg each: a mirror-like
+// ink's peak is a degree or two wide (brass's falls from 155 to 5.6 within 1.7 degrees), so a
+// rule of a few fixed points under- or overshoots it by several times where the normal turns as
+// much across a pixel.
+constexpr double kSpreadToHalfWidth = 1.7320508075688772;  // sqrt(3)
+constexpr double kTurnPerPartDeg = 0.25;
+// Past this turn across the box along either axis the pixel is rendered at its own normal. Its
+// neighbours' normals then lie several degrees a pixel apart: a steep edge, where the search
+// refuses or takes back normals (the sample's normal stands in for an unknown one) and the
+// normals it keeps are least sure; a box over them reaches highlights of normals no facet of the
+// footprint has (docs/reconstruction.md, "A camera pixel's footprint in the map's renders").
+constexpr double kMaxTurnAcrossDeg = 4;  // 16 parts a side at most
+
+// The parts along one axis of the box for the slope's change across it; 0 past the limit.
+int PartsAcross(const Eigen::Vector2f& slope_change) {
+  const double turn_deg = std::atan(double(slope_change.norm())) * 180 / kPi;
+  if (turn_deg > kMaxTurnAcrossDeg) return 0;
+  return std::max(1, int(std::ceil(turn_deg / kTurnPerPartDeg)));
+}
+
+}  // namespace
+
 std::array<double, 3> MapBrdfAt(const SvbrdfMap& map, const BasisView& basis, int x, int y,
                                 const Eigen::Vector3d& in, const Eigen::Vector3d& out,
                                 RowLookup lookup) {
   const std::vector<float> c = PixelCoefficients(map, x, y);
-  if (map.Plane("normal_status", x, y) != float(NormalStatus::kEstimated))
-    return BrdfFromCoefficients(basis, c.data(), map.info.components, in, out, lookup);
-  const Eigen::Vector3f n(map.Plane("normal.x", x, y), map.Plane("normal.y", x, y),
-                          map.Plane("normal.z", x, y));
-  return SeenAsFlat(
-      n.normalized(), in, out, [&](const Eigen::Vector3d& fi, const Eigen::Vector3d& fo) {
-        return BrdfFromCoefficients(basis, c.data(), map.info.components, fi, fo, lookup);
-      });
+  const auto facet = [&](const Eigen::Vector3d& fi, const Eigen::Vector3d& fo) {
+    return BrdfFromCoefficients(basis, c.data(), map.info.components, fi, fo, lookup);
+  };
+  Eigen::Vector2f along_x = Eigen::Vector2f::Zero(), along_y = Eigen::Vector2f::Zero();
+  if (map.info.pixel_spread_px > 0) {  // the slope's change a pixel, by central differences
+    along_x = (RenderedSlope(map, x + 1, y) - RenderedSlope(map, x - 1, y)) / 2;
+    along_y = (RenderedSlope(map, x, y + 1) - RenderedSlope(map, x, y - 1)) / 2;
+  }
+  const float half = float(kSpreadToHalfWidth * map.info.pixel_spread_px);
+  const int nx = PartsAcross(2 * half * along_x), ny = PartsAcross(2 * half * along_y);
+  if (nx * ny <= 1) {  // one normal over the whole pixel
+    if (map.Plane("normal_status", x, y) != float(NormalStatus::kEstimated)) return facet(in, out);
+    const Eigen::Vector3f n(map.Plane("normal.x", x, y), map.Plane("normal.y", x, y),
+                            map.Plane("normal.z", x, y));
+    return SeenAsFlat(n.normalized(), in, out, facet);
+  }
+  // The camera's pixel integrated over points spread about its centre, across which the normal
+  // changes as its neighbours' do: the mean over that box, by the rule above.
+  const Eigen::Vector2f slope = RenderedSlope(map, x, y);
+  std::array<double, 3> mean{0, 0, 0};
+  for (int i = 0; i < nx; ++i)
+    for (int j = 0; j < ny; ++j) {
+      const float u = half * (2 * (i + 0.5f) / nx - 1), v = half * (2 * (j + 0.5f) / ny - 1);
+      const Eigen::Vector2f s = slope + u * along_x + v * along_y;
+      const std::array<double, 3> value = SeenAsFlat(NormalOfSlope(s.x(), s.y()), in, out, facet);
+      for (int ch = 0; ch < 3; ++ch) mean[ch] += value[ch] / (nx * ny);
+    }
+  return mean;
 }
 
 RgbImage RenderView(const SvbrdfMap& map, const BasisView& basis, const ArmAngles& arms,

@@ -642,7 +642,8 @@ ReconstructionSpec ReadReconstruction(const Section& top, const std::string& bas
                                                      "normals_min_tilt_deg",
                                                      "normals_confirm",
                                                      "normals_mixed_same_group",
-                                                     "normals_same_centre"});
+                                                     "normals_same_centre",
+                                                     "pixel_footprint"});
   ReconstructionSpec r;
   r.basis_file = Resolve(base, recon.Required("basis"));
   RequireFile(recon, "basis", r.basis_file, "build one with `acq basis build` (README)");
@@ -678,6 +679,7 @@ ReconstructionSpec ReadReconstruction(const Section& top, const std::string& bas
   r.normals_min_tilt_deg = recon.Number("normals_min_tilt_deg", r.normals_min_tilt_deg);
   r.normals_mixed_same_group = recon.Flag("normals_mixed_same_group", r.normals_mixed_same_group);
   r.normals_same_centre = recon.Flag("normals_same_centre", r.normals_same_centre);
+  r.pixel_footprint = recon.Flag("pixel_footprint", r.pixel_footprint);
   const std::string confirm =
       recon.Text("normals_confirm", NormalConfirmationName(r.normals_confirmation));
   if (const std::optional<NormalConfirmation> parsed = ParseNormalConfirmation(confirm))

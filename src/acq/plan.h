@@ -147,6 +147,10 @@ struct ReconstructionSpec {  // reconstruction:
   bool normals_mixed_same_group = kDefaultNormalsMixedSameGroup;
   // NormalSearchOptions::confirmation (reconstruction.normals_confirm)
   NormalConfirmation normals_confirmation = kDefaultNormalsConfirmation;
+  // reconstruction.pixel_footprint: the map records what the camera's pixels integrated over
+  // (SvbrdfMapInfo::pixel_spread_px, CameraPixelSpreadPx), and its renders average each pixel
+  // over it where its normals vary; false: every render at the pixel's centre.
+  bool pixel_footprint = true;
   void Check() const;
 };
 

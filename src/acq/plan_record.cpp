@@ -10,6 +10,7 @@
 
 #include "core/angles.h"
 #include "core/error.h"
+#include "core/pixel_footprint.h"
 #include "core/sha256.h"
 #include "io/session_catalog.h"
 
@@ -245,6 +246,7 @@ std::vector<PlanSetting> PlanSettings(const Plan& plan) {
   if (plan.reconstruction.normals_confirmation != kDefaultNormalsConfirmation)
     s.Processing("reconstruction.normals_confirm",
                  NormalConfirmationName(plan.reconstruction.normals_confirmation));
+  if (!plan.reconstruction.pixel_footprint) s.Processing("reconstruction.pixel_footprint", "false");
   return s.out;
 }
 
@@ -311,6 +313,27 @@ std::string ListedChanges(const std::vector<std::string>& changes, const std::st
       std::to_string(changes.size()) + " setting" + (changes.size() > 1 ? "s" : "") + which + ":";
   for (std::size_t i = 0; i < changes.size() && i < kListed; ++i) s += "\n  " + changes[i];
   return s + (changes.size() > kListed ? "\n  ..." : "") + "\n";
+}
+
+double CameraPixelSpreadPx(const Plan& plan) {
+  switch (plan.backend) {
+    case Backend::kSim:
+      return PixelSamplesSpreadPx(plan.sim.pixel_samples);
+    case Backend::kUsbAravis:
+      return kWholePixelSpreadPx;
+    case Backend::kReplay:
+      break;
+  }
+  // A replay serves the frames of the session it replays: that session's camera took them.
+  const std::string path = plan.replay_session + "/" + kSettingsFile;
+  if (!fs::exists(path)) return kWholePixelSpreadPx;  // recorded before plans were: a real one
+  std::string backend, samples = "1";  // sim.pixel_samples is recorded only where not 1
+  for (const PlanSetting& s : ReadSettings(path)) {
+    if (s.key == "backend") backend = s.value;
+    if (s.key == "sim.pixel_samples") samples = s.value;
+  }
+  if (backend != BackendName(Backend::kSim)) return kWholePixelSpreadPx;
+  return PixelSamplesSpreadPx(std::atoi(samples.c_str()));
 }
 
 std::vector<std::string> ReplayDifferences(const Plan& plan, const std::string& session) {

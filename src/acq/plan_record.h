@@ -46,6 +46,11 @@ std::vector<std::string> CaptureDifferences(const Plan& plan, const std::string&
 // "N settings<which>:" and the changes, a line each (the first 12), for an error message.
 std::string ListedChanges(const std::vector<std::string>& changes, const std::string& which = "");
 
+// What the pixels of the camera that took the session's frames integrated over (core/
+// pixel_footprint.h): the simulator's pixel samples, the whole pixel of a real camera, and for a
+// replay the camera of the session it replays (its recorded backend and pixel samples).
+double CameraPixelSpreadPx(const Plan& plan);
+
 // For a replay of `session`: the capture settings of `plan` that differ from those the session
 // recorded and that decide which frames are asked for, in which order, at which settings (all
 // but the backend, the replayed session and the simulated world); none when the session has no

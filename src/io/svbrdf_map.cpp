@@ -98,6 +98,8 @@ SvbrdfMapWriter::SvbrdfMapWriter(const std::string& path, const SvbrdfMapInfo& i
   header.insert("acqRowLookup", Imf::StringAttribute(info.lookup));
   header.insert("acqCameraModel", Imf::StringAttribute(info.camera_model));
   header.insert("acqPixelSizeMm", Imf::DoubleAttribute(info.pixel_size_mm));
+  if (info.pixel_spread_px > 0)
+    header.insert("acqPixelSpreadPx", Imf::DoubleAttribute(info.pixel_spread_px));
   header.insert("acqSource", Imf::StringAttribute(info.source));
   header.insert("acqMethod", Imf::StringAttribute(info.method));
   if (!info.model.empty()) header.insert("acqModel", Imf::StringAttribute(info.model));
@@ -185,6 +187,8 @@ SvbrdfMap ReadSvbrdfMap(const std::string& path) {
     map.info.camera_model = h.typedAttribute<Imf::StringAttribute>("acqCameraModel").value();
     map.info.pixel_size_mm = h.typedAttribute<Imf::DoubleAttribute>("acqPixelSizeMm").value();
     map.info.source = h.typedAttribute<Imf::StringAttribute>("acqSource").value();
+    if (const auto* spread = h.findTypedAttribute<Imf::DoubleAttribute>("acqPixelSpreadPx"))
+      map.info.pixel_spread_px = spread->value();
     if (const auto* m = h.findTypedAttribute<Imf::StringAttribute>("acqMethod"))
       map.info.method = m->value();
     if (const auto* m = h.findTypedAttribute<Imf::StringAttribute>("acqModel"))

@@ -30,13 +30,17 @@ inline constexpr const char* kSyntheticCameraModel =
 
 struct SvbrdfMapInfo {
   int width = 0, height = 0;
-  int components = 0;                  // k
-  double eta = 0;                      // ridge strength used
-  std::string lookup;                  // "nearest" or "interpolated"
-  std::string basis;                   // path of the basis file
-  std::uint32_t basis_crc32 = 0;       // its checksum (docs/basis-format.md)
-  std::string camera_model;            // reference camera's .cameramodel, or kSyntheticCameraModel
-  double pixel_size_mm = 0;            // on the sample
+  int components = 0;             // k
+  double eta = 0;                 // ridge strength used
+  std::string lookup;             // "nearest" or "interpolated"
+  std::string basis;              // path of the basis file
+  std::uint32_t basis_crc32 = 0;  // its checksum (docs/basis-format.md)
+  std::string camera_model;       // reference camera's .cameramodel, or kSyntheticCameraModel
+  double pixel_size_mm = 0;       // on the sample
+  // The spread of the points a camera pixel integrated over (core/pixel_footprint.h), in map
+  // pixels: the map's renders average each pixel over it where its normals vary
+  // (acq/map_render.h, MapBrdfAt). 0: point sampling, and every map written before it.
+  double pixel_spread_px = 0;
   std::string source;                  // what the observations came from
   std::string method = "independent";  // ReconstructionMethodName
   std::string model;                   // the pooled model's summary (PooledModel::Summary)

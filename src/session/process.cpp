@@ -11,6 +11,7 @@
 #include "acq/correspondence_source.h"
 #include "acq/hdr.h"
 #include "acq/map_render.h"
+#include "acq/plan_record.h"
 #include "brdf/basis_file.h"
 #include "calib/correspondence.h"
 #include "calib/synthetic_board.h"
@@ -181,6 +182,7 @@ ReconstructionReport ReconstructMap(const Plan& plan, const MappedBasis& mapped,
   info.basis = plan.reconstruction.basis_file;
   info.basis_crc32 = mapped.Checksum();
   info.camera_model = dir + "/calibration/camera.cameramodel";
+  if (plan.reconstruction.pixel_footprint) info.pixel_spread_px = CameraPixelSpreadPx(plan);
   ReconstructionReport report =
       Reconstruct(mapped.View(), source, options, info, dir + "/svbrdf.exr");
   report.off_spectralon_observations = source.OffBoardObservations();
