@@ -304,6 +304,13 @@ TEST_CASE("plan record: the camera's pixel spread is that of the camera that too
   replay.backend = Backend::kReplay;
   replay.replay_session = session;
   CHECK(CameraPixelSpreadPx(replay) == CameraPixelSpreadPx(area));
+  // A replay of that replay: followed back to the camera that took the frames.
+  const std::string replayed = tmp / "replayed";
+  SessionCatalog replayed_catalog(replayed);
+  RecordOrCheckPlan(replay, replayed, replayed_catalog);
+  Plan second = replay;
+  second.replay_session = replayed;
+  CHECK(CameraPixelSpreadPx(second) == CameraPixelSpreadPx(area));
   replay.replay_session = tmp / "recorded-before-plans";  // no record: taken as a real camera's
   CHECK(CameraPixelSpreadPx(replay) == kWholePixelSpreadPx);
   // Turning the renders' footprint off is a processing setting, recorded.

@@ -23,6 +23,8 @@ constexpr const char* kSettingsFile = "plan_settings.tsv";
 // Files up to this size are copied into the session with the plan (directions, camera models,
 // material fits); larger ones (a basis) are recorded by checksum only.
 constexpr std::uintmax_t kCopyLimitBytes = 16u << 20;
+// Replays of replays followed back to the camera that took the frames: no further than this.
+constexpr int kMaxReplayDepth = 16;
 
 std::string Number(double v) {
   char text[40];
@@ -324,16 +326,24 @@ double CameraPixelSpreadPx(const Plan& plan) {
     case Backend::kReplay:
       break;
   }
-  // A replay serves the frames of the session it replays: that session's camera took them.
-  const std::string path = plan.replay_session + "/" + kSettingsFile;
-  if (!fs::exists(path)) return kWholePixelSpreadPx;  // recorded before plans were: a real one
-  std::string backend, samples = "1";  // sim.pixel_samples is recorded only where not 1
-  for (const PlanSetting& s : ReadSettings(path)) {
-    if (s.key == "backend") backend = s.value;
-    if (s.key == "sim.pixel_samples") samples = s.value;
+  // A replay serves the frames of the session it replays: that session's camera took them (and
+  // a replay's, the camera of the session that one replayed).
+  std::string session = plan.replay_session;
+  for (int depth = 0; depth < kMaxReplayDepth; ++depth) {
+    const std::string path = session + "/" + kSettingsFile;
+    if (!fs::exists(path)) return kWholePixelSpreadPx;  // recorded before plans were: a real one
+    std::string backend, replayed, samples = "1";  // sim.pixel_samples recorded where not 1
+    for (const PlanSetting& s : ReadSettings(path)) {
+      if (s.key == "backend") backend = s.value;
+      if (s.key == "replay") replayed = s.value;
+      if (s.key == "sim.pixel_samples") samples = s.value;
+    }
+    if (backend == BackendName(Backend::kSim))
+      return PixelSamplesSpreadPx(std::atoi(samples.c_str()));
+    if (backend != BackendName(Backend::kReplay) || replayed.empty()) return kWholePixelSpreadPx;
+    session = replayed;
   }
-  if (backend != BackendName(Backend::kSim)) return kWholePixelSpreadPx;
-  return PixelSamplesSpreadPx(std::atoi(samples.c_str()));
+  return kWholePixelSpreadPx;
 }
 
 std::vector<std::string> ReplayDifferences(const Plan& plan, const std::string& session) {
