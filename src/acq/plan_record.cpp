@@ -332,7 +332,7 @@ double CameraPixelSpreadPx(const Plan& plan) {
   for (int depth = 0; depth < kMaxReplayDepth; ++depth) {
     const std::string path = session + "/" + kSettingsFile;
     if (!fs::exists(path)) return kWholePixelSpreadPx;  // recorded before plans were: a real one
-    std::string backend, replayed, samples = "1";  // sim.pixel_samples recorded where not 1
+    std::string backend, replayed, samples = "1";       // sim.pixel_samples recorded where not 1
     for (const PlanSetting& s : ReadSettings(path)) {
       if (s.key == "backend") backend = s.value;
       if (s.key == "replay") replayed = s.value;
