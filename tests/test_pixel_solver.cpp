@@ -274,16 +274,26 @@ TEST_CASE("the reconstruction job streams bands into a map that equals a direct 
     }
 }
 
+namespace {
+
+// The source reconstructed with the default options, as a map read back from dir/m.exr.
+SvbrdfMap ReconstructedMap(const BasisView& basis, sim::SyntheticSource& source,
+                           const test::TempDir& dir) {
+  ReconstructionOptions r;
+  r.progress = false;
+  Reconstruct(basis, source, r, {}, dir / "m.exr");
+  return ReadSvbrdfMap(dir / "m.exr");
+}
+
+}  // namespace
+
 TEST_CASE("using a map: view render, MERL export and spheres follow the BRDF definition",
           "[pixel][render]") {
   const Fixture& d = Data();
   const BasisView basis = d.basis.View();
   sim::SyntheticSource source(sim::MakeCardLayout(12, 10, 20.0, 4, 2), d.continuous, d.views, {});
-  ReconstructionOptions r;
-  r.progress = false;
   test::TempDir dir;
-  Reconstruct(basis, source, r, {}, dir / "m.exr");
-  const SvbrdfMap map = ReadSvbrdfMap(dir / "m.exr");
+  const SvbrdfMap map = ReconstructedMap(basis, source, dir);
   const int k = map.info.components;  // the pooled map's centres may have more than 20
   std::vector<float> c;
   for (int ch = 0; ch < 3; ++ch) {
@@ -328,11 +338,8 @@ TEST_CASE("a map's render averages a pixel over the camera pixel's spread where 
   const Fixture& d = Data();
   const BasisView basis = d.basis.View();
   sim::SyntheticSource source(sim::MakeCardLayout(12, 10, 20.0, 4, 2), d.continuous, d.views, {});
-  ReconstructionOptions r;
-  r.progress = false;
   test::TempDir dir;
-  Reconstruct(basis, source, r, {}, dir / "m.exr");
-  SvbrdfMap map = ReadSvbrdfMap(dir / "m.exr");
+  SvbrdfMap map = ReconstructedMap(basis, source, dir);
   const int w = map.info.width;
   const std::vector<std::string> names = SvbrdfChannelNames(map.info.components);
   const auto plane = [&](const std::string& name) -> std::vector<float>& {
