@@ -52,6 +52,13 @@ def label_log_axes(ax, labels):
     ax.legend(fontsize=8)
 
 
+def save(fig, png):
+    """The figure laid out and written to png."""
+    fig.tight_layout()
+    fig.savefig(png, dpi=120)
+    print("wrote", png)
+
+
 def main(png, *pairs):
     fig, (left, right) = plt.subplots(1, 2, figsize=(13, 5.5))
     for spec, marker in zip(pairs, "os^D"):
@@ -74,9 +81,7 @@ def main(png, *pairs):
     label_log_axes(right, ("the truth against the capture, at the pixels' own points",
                            "the truth against the capture, sampled as the capture was",
                            "What no model of the sample goes under (relative RMS)"))
-    fig.tight_layout()
-    fig.savefig(png, dpi=120)
-    print("wrote", png)
+    save(fig, png)
 
 
 if __name__ == "__main__":

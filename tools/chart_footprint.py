@@ -16,7 +16,7 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-from chart_capture_sampling import label_log_axes  # noqa: E402
+from chart_capture_sampling import label_log_axes, save  # noqa: E402
 from chart_normals_settings import ratio  # noqa: E402
 
 
@@ -58,9 +58,7 @@ def main(png, *specs):
         label_log_axes(ax, ("without the footprint: search on / off",
                             "with the footprint: search on / off",
                             "Each validation view against %s, relative RMS" % what))
-    fig.tight_layout()
-    fig.savefig(png, dpi=120)
-    print("wrote", png)
+    save(fig, png)
 
 
 if __name__ == "__main__":
