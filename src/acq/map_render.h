@@ -26,9 +26,10 @@ std::vector<float> PixelCoefficients(const SvbrdfMap& map, int x, int y);
 // into that frame and the value scaled by (n . l) / l.z; 0 where the facet turns from the light
 // or the view. For a pixel with the sample's normal, simply its BRDF. Where the map records a
 // camera pixel's spread (SvbrdfMapInfo::pixel_spread_px) and the pixel's neighbours' normals
-// differ, the mean over the normals across its spread, the normal changing linearly as its
-// neighbours' do (a 3 x 3 rule; docs/reconstruction.md, "A camera pixel's footprint in the
-// map's renders"): what a camera whose pixel straddles facets records.
+// differ, the mean over a box of that spread, the normal changing linearly as its neighbours'
+// do, read in parts of at most 0.25 degree of turn, and at its own normal past 4 degrees of turn
+// across the box (docs/reconstruction.md, "A camera pixel's footprint in the map's renders"):
+// what a camera whose pixel straddles facets records.
 std::array<double, 3> MapBrdfAt(const SvbrdfMap& map, const BasisView& basis, int x, int y,
                                 const Eigen::Vector3d& in, const Eigen::Vector3d& out,
                                 RowLookup lookup);
